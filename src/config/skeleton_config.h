@@ -1,0 +1,29 @@
+// Skeleton configs (configs/skeletons/*.yaml) -> skeletons.
+//
+// A config describes the skeleton of the files users hold ("source": joints with parents, in file
+// order) and, optionally, the protocol skeleton made from it by keeping named joints ("keep",
+// "reparent"); left/right pairs and body-part partitions refer to the protocol skeleton's names.
+// See configs/skeletons/README.md for the documented format.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/joint_selection.h"
+#include "core/skeleton.h"
+
+namespace motionfork {
+
+struct SkeletonConfig {
+  std::string path;                           // the YAML file it came from
+  std::shared_ptr<const Skeleton> source;     // as stored in the dataset's files
+  std::shared_ptr<const Skeleton> skeleton;   // the protocol skeleton (source when nothing is cut)
+  std::optional<JointSelection> selection;    // source -> skeleton, when joints are cut
+};
+
+// Throws FormatError naming the file and line for YAML problems and the offending joint for
+// structural ones (unknown parent, parent after child, overlapping parts, ...).
+SkeletonConfig LoadSkeletonConfig(const std::string& path);
+
+}  // namespace motionfork
