@@ -1,1 +1,40 @@
-int main() { return 0; }
+// motionfork: diverse, controllable human motion prediction. One command, many subcommands.
+//
+// Exit status: 0 success; 2 bad input or usage (the message names the file and what was wrong);
+// subcommands may define 1 (e.g. a check that found problems).
+#include <cstdio>
+#include <exception>
+
+#include "app_common.h"
+#include "commands.h"
+#include "core/error.h"
+
+int main(int argc, char** argv) {
+  using namespace motionfork::app;
+  CLI::App app{"motionfork " MOTIONFORK_VERSION
+               ": diverse, controllable human motion prediction.\n"
+               "Run 'motionfork SUBCOMMAND --help' for each subcommand's options."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", MOTIONFORK_VERSION);
+  GlobalOptions global;
+  app.add_option("--config-dir", global.config_dir,
+                 "Folder of YAML configs (default: $MOTIONFORK_CONFIG_DIR or the source tree's configs/)");
+  app.add_option("--cache-dir", global.cache_dir,
+                 "Folder for parsed-dataset caches ('none' disables; default: $MOTIONFORK_CACHE_DIR or "
+                 "~/.cache/motionfork)");
+  app.add_flag("-q,--quiet", global.quiet, "No progress bars");
+  AddInfoCommand(app, global);
+  AddConvertCommand(app, global);
+  AddDatasetCommand(app, global);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kExitBadInput;
+  } catch (const std::exception& e) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "motionfork: error: %s\n", e.what());
+    return kExitBadInput;
+  }
+  return global.exit_code;
+}

@@ -105,3 +105,35 @@ SkeletonConfig LoadSkeletonConfig(const std::string& path) {
 }
 
 }  // namespace motionfork
+
+namespace motionfork {
+
+Motion ConformToSkeleton(const Motion& motion, const SkeletonConfig& config) {
+  const Skeleton& have = motion.skeleton();
+  const JointSelection onto_protocol{*config.skeleton, {}};
+  if (have.is_anonymous()) {
+    if (have.num_joints() == config.skeleton->num_joints()) {
+      return Motion(config.skeleton, motion.fps(), motion.positions());
+    }
+    if (have.num_joints() == config.source->num_joints()) {
+      Motion source(config.source, motion.fps(), motion.positions());
+      return config.selection ? ApplySelection(source, *config.selection) : source;
+    }
+    throw std::invalid_argument("a motion with " + std::to_string(have.num_joints()) +
+                                " unnamed joints does not fit skeleton '" + config.skeleton->name() +
+                                "' (expected " + std::to_string(config.skeleton->num_joints()) +
+                                " or, before joint selection, " +
+                                std::to_string(config.source->num_joints()) + " joints)");
+  }
+  std::vector<std::string> missing;
+  for (const std::string& n : config.skeleton->joint_names()) {
+    if (!have.Find(n)) missing.push_back(n);
+  }
+  if (missing.empty()) return ApplySelection(motion, onto_protocol);
+  std::string list;
+  for (const std::string& n : missing) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("motion with skeleton '" + have.name() + "' lacks joints of '" +
+                              config.skeleton->name() + "': " + list);
+}
+
+}  // namespace motionfork

@@ -27,3 +27,15 @@ struct SkeletonConfig {
 SkeletonConfig LoadSkeletonConfig(const std::string& path);
 
 }  // namespace motionfork
+
+namespace motionfork {
+
+// Puts a motion read from a file onto a config's skeleton:
+// - joints named like the protocol skeleton's (any order): re-ordered onto it;
+// - joints named like the source skeleton's (e.g. a Bandai BVH): the config's selection applied;
+// - an anonymous skeleton (.npy) with the protocol's or the source's joint count: bound by index
+//   (the source then goes through the selection).
+// Throws std::invalid_argument saying which joints or counts did not match.
+Motion ConformToSkeleton(const Motion& motion, const SkeletonConfig& config);
+
+}  // namespace motionfork

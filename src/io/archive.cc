@@ -3,6 +3,8 @@
 #include <archive.h>
 #include <archive_entry.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -25,7 +27,10 @@ bool LooksLikeArchive(const std::string& path) {
 
 void ForEachArchiveFile(const std::string& archive_path,
                         const std::function<bool(const std::string&)>& want,
-                        const std::function<void(const std::string&, std::string_view)>& visit) {
+                        const std::function<void(const std::string&, std::string_view)>& visit,
+                        const std::function<void(double)>& progress) {
+  std::error_code ec;
+  const double total_bytes = static_cast<double>(std::filesystem::file_size(archive_path, ec));
   std::unique_ptr<struct archive, decltype(&archive_read_free)> a(archive_read_new(),
                                                                    &archive_read_free);
   archive_read_support_filter_all(a.get());
@@ -67,6 +72,9 @@ void ForEachArchiveFile(const std::string& archive_path,
                                           " bytes, found " + std::to_string(got)));
     }
     visit(name, std::string_view(buffer.data(), buffer.size()));
+    if (progress && total_bytes > 0) {
+      progress(std::min(1.0, static_cast<double>(archive_filter_bytes(a.get(), -1)) / total_bytes));
+    }
   }
 }
 

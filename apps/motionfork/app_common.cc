@@ -1,0 +1,96 @@
+#include "app_common.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace motionfork::app {
+
+std::string ConfigDir(const std::string& flag_value) {
+  if (!flag_value.empty()) return flag_value;
+  if (const char* env = std::getenv("MOTIONFORK_CONFIG_DIR"); env && *env) return env;
+  return MOTIONFORK_CONFIG_DIR;
+}
+
+std::string CacheDir(const std::string& flag_value) {
+  if (flag_value == "none") return "";
+  if (!flag_value.empty()) return flag_value;
+  if (const char* env = std::getenv("MOTIONFORK_CACHE_DIR"); env && *env) {
+    return std::string(env) == "none" ? "" : env;
+  }
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) {
+    return (std::filesystem::path(xdg) / "motionfork").string();
+  }
+  if (const char* home = std::getenv("HOME"); home && *home) {
+    return (std::filesystem::path(home) / ".cache" / "motionfork").string();
+  }
+  return (std::filesystem::temp_directory_path() / "motionfork-cache").string();
+}
+
+ProgressBar::ProgressBar(std::string label, bool enabled)
+    : label_(std::move(label)),
+      enabled_(enabled),
+      tty_(isatty(fileno(stderr))),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_ - std::chrono::seconds(1)) {}
+
+ProgressBar::~ProgressBar() { Finish(); }
+
+void ProgressBar::Update(double fraction, const std::string& detail) {
+  if (!enabled_ || finished_) return;
+  fraction = std::min(1.0, std::max(0.0, fraction));
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  if (!tty_) {
+    const int decile = static_cast<int>(fraction * 10);
+    if (decile == last_decile_) return;
+    last_decile_ = decile;
+    std::fprintf(stderr, "%s: %3d%% (%s)\n", label_.c_str(), decile * 10, Duration(elapsed).c_str());
+    return;
+  }
+  if (now - last_draw_ < std::chrono::milliseconds(100) && fraction < 1.0) return;
+  last_draw_ = now;
+  constexpr int kWidth = 30;
+  const int filled = static_cast<int>(fraction * kWidth);
+  std::string bar(filled, '#');
+  bar += std::string(kWidth - filled, '.');
+  std::string eta;
+  if (fraction > 0.02 && fraction < 1.0) eta = ", " + Duration(elapsed / fraction - elapsed) + " left";
+  std::string d = detail.size() > 40 ? "..." + detail.substr(detail.size() - 37) : detail;
+  std::fprintf(stderr, "\r\033[K%s [%s] %3d%% %s%s %s", label_.c_str(), bar.c_str(),
+               static_cast<int>(fraction * 100), Duration(elapsed).c_str(), eta.c_str(), d.c_str());
+  std::fflush(stderr);
+}
+
+void ProgressBar::Finish() {
+  if (!enabled_ || finished_) return;
+  finished_ = true;
+  if (tty_ && last_draw_ > start_) std::fprintf(stderr, "\n");
+}
+
+std::string WithThousands(long long n) {
+  std::string digits = std::to_string(n < 0 ? -n : n);
+  std::string out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return n < 0 ? "-" + out : out;
+}
+
+std::string Duration(double seconds) {
+  char buf[64];
+  if (seconds < 60) {
+    std::snprintf(buf, sizeof(buf), "%.1f s", seconds);
+  } else if (seconds < 3600) {
+    std::snprintf(buf, sizeof(buf), "%d min %02d s", int(seconds / 60), int(seconds) % 60);
+  } else {
+    std::snprintf(buf, sizeof(buf), "%d h %02d min", int(seconds / 3600), int(seconds / 60) % 60);
+  }
+  return buf;
+}
+
+}  // namespace motionfork::app

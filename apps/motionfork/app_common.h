@@ -1,0 +1,44 @@
+// Shared pieces of the motionfork subcommands: where configs and caches live, a progress bar,
+// and number formatting. Only apps print; libraries report through callbacks.
+#pragma once
+
+#include <chrono>
+#include <string>
+
+namespace motionfork::app {
+
+// Exit statuses shared by every subcommand.
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 2;
+
+// --config-dir, else $MOTIONFORK_CONFIG_DIR, else the source tree's configs/.
+std::string ConfigDir(const std::string& flag_value);
+
+// --cache-dir, else $MOTIONFORK_CACHE_DIR, else $XDG_CACHE_HOME/motionfork, else
+// ~/.cache/motionfork. "none" disables caching (returns "").
+std::string CacheDir(const std::string& flag_value);
+
+// A one-line progress bar on stderr, redrawn at most ~10 times a second; on a non-terminal it
+// prints a line every 10%. Finish() ends the line.
+class ProgressBar {
+ public:
+  explicit ProgressBar(std::string label, bool enabled = true);
+  ~ProgressBar();
+  void Update(double fraction, const std::string& detail = "");
+  void Finish();
+
+ private:
+  std::string label_;
+  bool enabled_;
+  bool tty_;
+  bool finished_ = false;
+  int last_decile_ = -1;
+  std::chrono::steady_clock::time_point start_, last_draw_;
+};
+
+// "1,234,567"
+std::string WithThousands(long long n);
+// "12.3 s", "4 min 05 s", "1 h 02 min"
+std::string Duration(double seconds);
+
+}  // namespace motionfork::app

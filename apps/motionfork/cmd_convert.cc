@@ -1,0 +1,52 @@
+// motionfork convert IN OUT: between motion formats, optionally onto a protocol skeleton.
+#include <cstdio>
+#include <memory>
+
+#include "app_common.h"
+#include "commands.h"
+#include "core/resample.h"
+#include "io/motion_file.h"
+#include "motion_options.h"
+
+namespace motionfork::app {
+namespace {
+
+struct ConvertOptions {
+  std::string in, out;
+  MotionInputOptions input;
+  double target_fps = 0;
+  bool root_relative = false;
+};
+
+void RunConvert(const ConvertOptions& o, const GlobalOptions& g) {
+  FormatOfPath(o.out);  // fail on an unknown output extension before any reading
+  LoadedMotion lm = LoadMotionInput(o.in, o.input, ConfigDir(g.config_dir));
+  Motion m = std::move(lm.motion);
+  if (o.target_fps > 0) m = Resample(m, o.target_fps);
+  if (o.root_relative) m = RootRelative(m);
+  WriteMotionFile(o.out, m);
+  std::printf("wrote %s: %s, %d joints, %s frames at %.6g Hz\n", o.out.c_str(),
+              m.skeleton().name().c_str(), m.num_joints(), WithThousands(m.num_frames()).c_str(),
+              m.fps());
+}
+
+}  // namespace
+
+void AddConvertCommand(CLI::App& app, GlobalOptions& global) {
+  auto o = std::make_shared<ConvertOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "convert",
+      "Convert a motion file between .bvh (read only), .npy [T, J, 3] and .csv (metres).\n"
+      "With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g. a 22-joint\n"
+      "Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted\n"
+      "with tools/videopose3d_to_motionfork.py.");
+  cmd->add_option("IN", o->in, "Input motion file")->required()->check(CLI::ExistingFile);
+  cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")->required();
+  AddMotionInputOptions(cmd, &o->input);
+  cmd->add_option("--resample", o->target_fps, "Resample to this frame rate, Hz (linear interpolation)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--root-relative", o->root_relative, "Subtract the root joint's position in every frame");
+  cmd->callback([o, &global] { RunConvert(*o, global); });
+}
+
+}  // namespace motionfork::app

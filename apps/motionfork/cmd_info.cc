@@ -1,0 +1,83 @@
+// motionfork info FILE: what a motion file holds.
+#include <cstdio>
+#include <memory>
+
+#include "app_common.h"
+#include "commands.h"
+#include "motion_options.h"
+
+namespace motionfork::app {
+namespace {
+
+struct InfoOptions {
+  std::string file;
+  MotionInputOptions input;
+  bool json = false;
+};
+
+std::string JsonEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
+  const LoadedMotion lm = LoadMotionInput(o.file, o.input, ConfigDir(g.config_dir));
+  const Motion& m = lm.motion;
+  const Skeleton& s = m.skeleton();
+  const BoundingBox box = ComputeBoundingBox(m);
+  if (o.json) {
+    std::printf("{\"file\": \"%s\", \"skeleton\": \"%s\", \"joints\": %d, \"joint_names\": [",
+                JsonEscape(o.file).c_str(), JsonEscape(s.name()).c_str(), s.num_joints());
+    for (int j = 0; j < s.num_joints(); ++j) {
+      std::printf("%s\"%s\"", j ? ", " : "", JsonEscape(s.joint_name(j)).c_str());
+    }
+    std::printf("], \"parents\": [");
+    for (int j = 0; j < s.num_joints(); ++j) std::printf("%s%d", j ? ", " : "", s.parent(j));
+    std::printf("], \"frames\": %d, \"fps\": %.6g, \"fps_assumed\": %s, \"duration_s\": %.6g, "
+                "\"bbox_min_m\": [%.6g, %.6g, %.6g], \"bbox_max_m\": [%.6g, %.6g, %.6g]}\n",
+                m.num_frames(), m.fps(), lm.fps_assumed ? "true" : "false", m.duration_seconds(),
+                box.min[0], box.min[1], box.min[2], box.max[0], box.max[1], box.max[2]);
+    return;
+  }
+  std::printf("file:      %s\n", o.file.c_str());
+  std::printf("skeleton:  %s (%d joints, root %s)\n", s.name().c_str(), s.num_joints(),
+              s.joint_name(0).c_str());
+  std::printf("joints:   ");
+  for (int j = 0; j < s.num_joints(); ++j) {
+    std::printf(" %s", s.joint_name(j).c_str());
+    if (!s.is_anonymous() && j > 0) std::printf("<%s", s.joint_name(s.parent(j)).c_str());
+  }
+  std::printf("\n");
+  if (!s.partitions().empty()) {
+    for (const Partition& p : s.partitions()) {
+      std::printf("parts:     %s:", p.name.c_str());
+      for (const BodyPart& part : p.parts) std::printf(" %s(%zu)", part.name.c_str(), part.joints.size());
+      std::printf("\n");
+    }
+  }
+  std::printf("frames:    %s at %.6g Hz%s (%.2f s)\n", WithThousands(m.num_frames()).c_str(), m.fps(),
+              lm.fps_assumed ? " (assumed: the file stores no rate; pass --fps)" : "",
+              m.duration_seconds());
+  std::printf("bounding box (m): x [%.3f, %.3f]  y [%.3f, %.3f]  z [%.3f, %.3f]\n", box.min[0],
+              box.max[0], box.min[1], box.max[1], box.min[2], box.max[2]);
+  std::printf("extent (m):       %.3f x %.3f x %.3f\n", box.max[0] - box.min[0],
+              box.max[1] - box.min[1], box.max[2] - box.min[2]);
+}
+
+}  // namespace
+
+void AddInfoCommand(CLI::App& app, GlobalOptions& global) {
+  auto o = std::make_shared<InfoOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "info", "Show a motion file's skeleton, frames, frame rate, duration and bounding box");
+  cmd->add_option("FILE", o->file, "Motion file (.bvh, .npy, .csv)")->required()->check(CLI::ExistingFile);
+  AddMotionInputOptions(cmd, &o->input);
+  cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
+  cmd->callback([o, &global] { RunInfo(*o, global); });
+}
+
+}  // namespace motionfork::app

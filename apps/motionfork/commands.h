@@ -1,0 +1,19 @@
+// Each subcommand registers itself on the top-level CLI11 app and runs from its callback.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace motionfork::app {
+
+struct GlobalOptions {
+  std::string config_dir;  // --config-dir
+  std::string cache_dir;   // --cache-dir
+  bool quiet = false;      // --quiet: no progress bars
+  int exit_code = 0;       // set by a subcommand that ran
+};
+
+void AddInfoCommand(CLI::App& app, GlobalOptions& global);
+void AddConvertCommand(CLI::App& app, GlobalOptions& global);
+void AddDatasetCommand(CLI::App& app, GlobalOptions& global);
+
+}  // namespace motionfork::app

@@ -1,0 +1,31 @@
+// Options every subcommand that reads a motion file shares: --skeleton, --fps, --bvh-scale.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "config/skeleton_config.h"
+#include "core/motion.h"
+
+namespace motionfork::app {
+
+struct MotionInputOptions {
+  std::string skeleton;    // config name or path; "" = as stored in the file
+  double fps = 0;          // 0 = from the file, else 30 Hz for files that store none
+  double bvh_scale = 0.01; // BVH length unit -> metres
+};
+
+void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o);
+
+struct LoadedMotion {
+  Motion motion;
+  std::optional<SkeletonConfig> skeleton_config;
+  bool fps_assumed = false;  // the file stores no frame rate and --fps was not given
+};
+
+// Reads the file; with --skeleton, puts it on that skeleton (selection/re-ordering).
+LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& o,
+                             const std::string& config_dir);
+
+}  // namespace motionfork::app

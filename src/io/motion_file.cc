@@ -1,0 +1,49 @@
+#include "io/motion_file.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "io/csv.h"
+#include "io/npy.h"
+
+namespace motionfork {
+
+MotionFormat FormatOfPath(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  if (ext == ".bvh") return MotionFormat::kBvh;
+  if (ext == ".npy") return MotionFormat::kNpy;
+  if (ext == ".csv") return MotionFormat::kCsv;
+  throw std::invalid_argument("'" + path + "': unknown motion format '" + ext +
+                              "'; expected .bvh, .npy or .csv");
+}
+
+const char* ToString(MotionFormat format) {
+  switch (format) {
+    case MotionFormat::kBvh: return "BVH";
+    case MotionFormat::kNpy: return "NumPy .npy";
+    case MotionFormat::kCsv: return "CSV";
+  }
+  return "?";
+}
+
+Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options) {
+  switch (FormatOfPath(path)) {
+    case MotionFormat::kBvh: return ReadBvhFile(path, options.bvh);
+    case MotionFormat::kNpy: return ReadNpyMotion(path, options.skeleton, options.fps);
+    case MotionFormat::kCsv: return ReadCsvMotion(path, options.skeleton, options.fps);
+  }
+  throw std::logic_error("unreachable");
+}
+
+void WriteMotionFile(const std::string& path, const Motion& motion) {
+  switch (FormatOfPath(path)) {
+    case MotionFormat::kBvh:
+      throw std::invalid_argument("'" + path + "': writing BVH is not supported yet; write .npy or .csv");
+    case MotionFormat::kNpy: return WriteNpyMotion(path, motion);
+    case MotionFormat::kCsv: return WriteCsvMotion(path, motion);
+  }
+}
+
+}  // namespace motionfork

@@ -1,0 +1,34 @@
+// Reading and writing a motion file of any supported format, chosen by extension:
+// .bvh (read), .npy and .csv (read and write).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/motion.h"
+#include "io/bvh.h"
+
+namespace motionfork {
+
+enum class MotionFormat { kBvh, kNpy, kCsv };
+
+// From the file name's extension (case-insensitive). Throws std::invalid_argument naming the file
+// and the supported extensions.
+MotionFormat FormatOfPath(const std::string& path);
+const char* ToString(MotionFormat format);
+
+struct MotionReadOptions {
+  // Joints of .npy files (which store none) and expected joints of .csv files; may be null, then
+  // an anonymous skeleton (npy) or one named by the CSV header is used.
+  std::shared_ptr<const Skeleton> skeleton;
+  // Frame rate for formats that may not store one (.npy always, .csv without an fps comment).
+  double fps = 30.0;
+  BvhOptions bvh;
+};
+
+Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options = {});
+
+// All-or-nothing write. BVH output is not supported yet (throws std::invalid_argument).
+void WriteMotionFile(const std::string& path, const Motion& motion);
+
+}  // namespace motionfork
