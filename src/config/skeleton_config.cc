@@ -110,8 +110,17 @@ namespace motionfork {
 
 Motion ConformToSkeleton(const Motion& motion, const SkeletonConfig& config) {
   const Skeleton& have = motion.skeleton();
-  const JointSelection onto_protocol{*config.skeleton, {}};
-  if (have.is_anonymous()) {
+  auto has_all = [&have](const Skeleton& want) {
+    for (const std::string& n : want.joint_names()) {
+      if (!have.Find(n)) return false;
+    }
+    return true;
+  };
+  // By names: the protocol's joints in any order, or the source's (then selected).
+  if (has_all(*config.skeleton)) return ApplySelection(motion, JointSelection{*config.skeleton, {}});
+  if (config.selection && has_all(*config.source)) return ApplySelection(motion, *config.selection);
+  // By count, for files that store no names.
+  if (have.is_anonymous() && have.joint_name(0) == "j0") {
     if (have.num_joints() == config.skeleton->num_joints()) {
       return Motion(config.skeleton, motion.fps(), motion.positions());
     }
@@ -125,13 +134,10 @@ Motion ConformToSkeleton(const Motion& motion, const SkeletonConfig& config) {
                                 " or, before joint selection, " +
                                 std::to_string(config.source->num_joints()) + " joints)");
   }
-  std::vector<std::string> missing;
-  for (const std::string& n : config.skeleton->joint_names()) {
-    if (!have.Find(n)) missing.push_back(n);
-  }
-  if (missing.empty()) return ApplySelection(motion, onto_protocol);
   std::string list;
-  for (const std::string& n : missing) list += (list.empty() ? "" : ", ") + n;
+  for (const std::string& n : config.skeleton->joint_names()) {
+    if (!have.Find(n)) list += (list.empty() ? "" : ", ") + n;
+  }
   throw std::invalid_argument("motion with skeleton '" + have.name() + "' lacks joints of '" +
                               config.skeleton->name() + "': " + list);
 }

@@ -120,10 +120,14 @@ Skeleton Skeleton::Anonymous(int num_joints) {
                                 std::to_string(num_joints));
   }
   std::vector<std::string> names(num_joints);
-  std::vector<int> parents(num_joints, 0);
-  parents[0] = -1;
   for (int j = 0; j < num_joints; ++j) names[j] = "j" + std::to_string(j);
-  Skeleton s = FromParents("anonymous", std::move(names), std::move(parents));
+  return Unlinked("anonymous", std::move(names));
+}
+
+Skeleton Skeleton::Unlinked(std::string name, std::vector<std::string> joint_names) {
+  std::vector<int> parents(joint_names.size(), 0);
+  if (!parents.empty()) parents[0] = -1;
+  Skeleton s = FromParents(std::move(name), std::move(joint_names), std::move(parents));
   s.anonymous_ = true;
   return s;
 }

@@ -59,6 +59,9 @@ class Skeleton {
   // A skeleton for bare arrays whose joints have no names: joints "j0".."j{n-1}", all children of
   // j0. Used only to describe files read without a skeleton; its limb structure means nothing.
   static Skeleton Anonymous(int num_joints);
+  // Named joints whose tree is unknown (e.g. from a CSV header): all children of the first joint,
+  // is_anonymous() true. Map it onto a real skeleton by names (ConformToSkeleton).
+  static Skeleton Unlinked(std::string name, std::vector<std::string> joint_names);
 
   const std::string& name() const { return name_; }
   int num_joints() const { return static_cast<int>(names_.size()); }
@@ -66,6 +69,7 @@ class Skeleton {
   const std::string& joint_name(int j) const { return names_.at(j); }
   const std::vector<int>& parents() const { return parents_; }
   int parent(int j) const { return parents_.at(j); }
+  // True when the parents are unknown (Anonymous, Unlinked): limbs mean nothing.
   bool is_anonymous() const { return anonymous_; }
 
   // Index of a joint, or nullopt.

@@ -22,8 +22,10 @@ struct BvhOptions {
   bool include_end_sites = false;
 };
 
-// Reads a BVH file and returns world positions [T, J, 3] in metres; fps = 1 / Frame Time (snapped
-// to the nearest integer when within 1e-3 Hz of it). Throws FormatError naming the file, line
+// Reads a BVH file and returns world positions [T, J, 3] in metres; fps = 1 / Frame Time, snapped
+// to an integer n when within 1e-3 Hz of it, or when Frame Time is 1/n rounded to the decimals it
+// was printed with and the rates agree within 0.1% (0.008333 -> 120 Hz, 0.0333333 -> 30 Hz; 0.03
+// stays 33.33 Hz). Throws FormatError naming the file, line
 // (header) or frame (motion data), what was expected and what was found.
 Motion ReadBvhFile(const std::string& path, const BvhOptions& options = {});
 

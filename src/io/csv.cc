@@ -218,11 +218,9 @@ std::vector<Column> MapColumns(const ParsedHeader& header, const Line& line,
       if (plain) {
         *skeleton = std::make_shared<const Skeleton>(Skeleton::Anonymous(num_joints));
       } else {
-        // Named joints but no tree: every joint a child of the first, like Skeleton::Anonymous.
-        std::vector<int> parents(num_joints, 0);
-        parents[0] = -1;
-        *skeleton = std::make_shared<const Skeleton>(Skeleton::FromParents(
-            skeleton_name.empty() ? "anonymous" : skeleton_name, order, std::move(parents)));
+        // Named joints but no tree (a CSV stores none).
+        *skeleton = std::make_shared<const Skeleton>(
+            Skeleton::Unlinked(skeleton_name.empty() ? "unlinked" : skeleton_name, order));
       }
     } catch (const std::invalid_argument& e) {
       throw FormatError(FormatMessage(source, where, std::string("bad joint names: ") + e.what()));

@@ -95,3 +95,29 @@ TEST_CASE("skeleton configs report YAML and structure problems with file and lin
   CHECK_THROWS_WITH(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "nope"),
                     Catch::Contains("bandai") && Catch::Contains("h36m"));
 }
+
+#include "core/joint_selection.h"
+#include "io/npy.h"
+
+TEST_CASE("motions from files are conformed to a config's skeleton by names or by joint count") {
+  const SkeletonConfig bandai = Shipped("bandai");
+  const Motion m = testing::MakeWalkingMotion(4);  // the 17 protocol joints, Bandai names
+  // Protocol names in another order -> re-ordered onto the protocol skeleton.
+  JointSelectionSpec rev;
+  rev.name = "reordered";
+  rev.keep = {"Hips", "Spine", "Chest", "Head", "Neck", "UpperLeg_R"};
+  rev.reparent = {{"Neck", "Chest"}, {"Head", "Chest"}};
+  // (partial skeletons lack joints: must fail naming them)
+  const Motion partial = ApplySelection(m, SelectJoints(m.skeleton(), rev));
+  CHECK_THROWS_WITH(ConformToSkeleton(partial, bandai), Catch::Contains("lacks joints") &&
+                                                            Catch::Contains("Hand_R"));
+  const Motion same = ConformToSkeleton(m, bandai);
+  CHECK(same.skeleton().SameStructure(*bandai.skeleton));
+  CHECK(same.positions() == m.positions());
+  // Anonymous [T, 17, 3] -> bound by index.
+  const Motion anon(std::make_shared<const Skeleton>(Skeleton::Anonymous(17)), 30, m.positions());
+  CHECK(ConformToSkeleton(anon, bandai).positions() == m.positions());
+  const Motion anon5(std::make_shared<const Skeleton>(Skeleton::Anonymous(5)), 30,
+                     std::vector<float>(4 * 5 * 3, 0.f));
+  CHECK_THROWS_WITH(ConformToSkeleton(anon5, bandai), Catch::Contains("5 unnamed joints"));
+}

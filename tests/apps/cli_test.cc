@@ -1,0 +1,100 @@
+// The motionfork command, run as users run it: help, exit statuses, info/convert/dataset stats.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "io/csv.h"
+#include "io/npy.h"
+#include "test_support.h"
+
+using namespace motionfork;
+
+namespace {
+
+struct Run {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+Run Motionfork(const std::string& args) {
+  const std::string cmd = std::string(MOTIONFORK_BINARY) + " --cache-dir none " + args + " 2>&1";
+  Run r{0, ""};
+  FILE* pipe = popen(cmd.c_str(), "r");
+  REQUIRE(pipe);
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int st = pclose(pipe);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("every subcommand has --help") {
+  for (const char* sub : {"", "info", "convert", "dataset", "dataset stats"}) {
+    const Run r = Motionfork(std::string(sub) + " --help");
+    INFO(sub << ": " << r.output);
+    CHECK(r.status == 0);
+    CHECK(r.output.find("Usage") != std::string::npos);
+  }
+}
+
+TEST_CASE("info and convert work on npy and csv, onto a named skeleton") {
+  testing::TempDir dir;
+  const Motion m = testing::MakeWalkingMotion(40, 30.0);
+  WriteCsvMotion(dir.file("walk.csv"), m);
+  Run r = Motionfork("info " + dir.file("walk.csv"));
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK(r.output.find("40 at 30 Hz") != std::string::npos);
+  CHECK(r.output.find("17 joints") != std::string::npos);
+
+  r = Motionfork("convert " + dir.file("walk.csv") + " " + dir.file("walk.npy") + " --skeleton bandai");
+  CHECK(r.status == 0);
+  const NpyArray a = ReadNpy(dir.file("walk.npy"));
+  CHECK(a.shape == std::vector<int64_t>{40, 17, 3});
+  // Converted onto the bandai protocol skeleton: same joints, same values.
+  CHECK(a.data == m.positions());
+
+  r = Motionfork("info " + dir.file("walk.npy") + " --skeleton bandai --fps 30 --json");
+  CHECK(r.status == 0);
+  CHECK(r.output.find("\"frames\": 40") != std::string::npos);
+  CHECK(r.output.find("\"parents\": [-1, 0, 1, 2, 0, 4, 5, 0, 7, 8, 9, 8, 11, 12, 8, 14, 15]") !=
+        std::string::npos);
+
+  r = Motionfork("convert " + dir.file("walk.npy") + " " + dir.file("half.csv") +
+                 " --skeleton bandai --fps 30 --resample 15");
+  CHECK(r.status == 0);
+  CHECK(r.output.find("20 frames at 15 Hz") != std::string::npos);
+}
+
+TEST_CASE("bad input exits with status 2 and names the file") {
+  testing::TempDir dir;
+  std::ofstream(dir.file("bad.csv")) << "Hips.x,Hips.y,Hips.z\n0,1,oops\n";
+  Run r = Motionfork("info " + dir.file("bad.csv"));
+  CHECK(r.status == 2);
+  CHECK(r.output.find("bad.csv") != std::string::npos);
+  CHECK(r.output.find("line 2") != std::string::npos);
+
+  r = Motionfork("info " + dir.file("missing.bvh"));
+  CHECK(r.status == 2);
+
+  WriteNpyMotion(dir.file("m.npy"), testing::MakeWalkingMotion(5));
+  r = Motionfork("info " + dir.file("m.npy") + " --skeleton humaneva");
+  CHECK(r.status == 2);
+  CHECK(r.output.find("17 unnamed joints") != std::string::npos);
+
+  r = Motionfork("convert " + dir.file("m.npy") + " " + dir.file("out.txt"));
+  CHECK(r.status == 2);
+  CHECK(r.output.find("unknown motion format") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir.file("out.txt")));
+
+  r = Motionfork("dataset stats --protocol nope --data " + dir.path().string());
+  CHECK(r.status == 2);
+  CHECK(r.output.find("bandai") != std::string::npos);
+}
