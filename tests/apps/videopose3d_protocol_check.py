@@ -1,0 +1,79 @@
+#!/usr/bin/env python3
+"""End-to-end check of the h36m and humaneva protocols on synthetic VideoPose3D files.
+
+For each layout: write a synthetic npz in VideoPose3D's layout (tools/ --make-synthetic), convert
+it, run `motionfork dataset stats --json`, and compare clip and window counts with an independent
+reading of the npz that follows the published protocol (protocols.md; DLow's evaluation code):
+subjects by split, the three bad HumanEva takes dropped, sequences shorter than t_his + t_pred
+dropped, test windows range(0, T - (t_his + t_pred), t_his).
+
+usage: videopose3d_protocol_check.py MOTIONFORK_BINARY SOURCE_DIR
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+PROTOCOLS = {
+    "h36m": dict(train=["S1", "S5", "S6", "S7", "S8"], test=["S9", "S11"], t_his=25, t_pred=100,
+                 drop=set()),
+    "humaneva": dict(train=["Train/S1", "Train/S2", "Train/S3"],
+                     test=["Validate/S1", "Validate/S2", "Validate/S3"], t_his=15, t_pred=60,
+                     drop={("Train/S3", "Walking 1 chunk0"), ("Train/S3", "Walking 1 chunk2"),
+                           ("Validate/S3", "Walking 1 chunk4")}),
+}
+
+
+def expected(npz, p):
+    data = np.load(npz, allow_pickle=True)["positions_3d"].item()
+    total = p["t_his"] + p["t_pred"]
+    out = {}
+    for split in ("train", "test"):
+        clips = usable = windows = 0
+        for subject in p[split]:
+            for action, seq in data.get(subject, {}).items():
+                clips += 1
+                if (subject, action) in p["drop"] or seq.shape[0] < total:
+                    continue
+                usable += 1
+                windows += len(range(0, seq.shape[0] - total, p["t_his"]))
+        out[split] = dict(clips=clips, usable=usable, test_windows=windows)
+    return out
+
+
+def main():
+    binary, source = sys.argv[1], sys.argv[2]
+    tool = os.path.join(source, "tools", "videopose3d_to_motionfork.py")
+    failures = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for layout, p in PROTOCOLS.items():
+            npz = os.path.join(tmp, layout + ".npz")
+            out = os.path.join(tmp, layout)
+            subprocess.run([sys.executable, tool, "--make-synthetic", npz, "--layout", layout],
+                           check=True)
+            subprocess.run([sys.executable, tool, npz, out], check=True, stdout=subprocess.DEVNULL)
+            stats_json = os.path.join(tmp, layout + ".json")
+            subprocess.run([binary, "--cache-dir", "none", "--quiet", "dataset", "stats",
+                            "--protocol", layout, "--data", out, "--json", stats_json],
+                           check=True, stdout=subprocess.DEVNULL)
+            with open(stats_json) as f:
+                got = json.load(f)
+            want = expected(npz, p)
+            for split in ("train", "test"):
+                for key in ("clips", "usable", "test_windows"):
+                    ok = got[split][key] == want[split][key]
+                    failures += not ok
+                    print("%s %-8s %-5s %-12s motionfork %6d  expected %6d  %s" %
+                          ("ok  " if ok else "FAIL", layout, split, key, got[split][key],
+                           want[split][key], "" if ok else "<--"))
+            if want["test"]["test_windows"] == 0 or want["train"]["usable"] == 0:
+                print("FAIL %s: the synthetic file gives no windows; the check proves nothing" % layout)
+                failures += 1
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
