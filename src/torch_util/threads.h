@@ -1,0 +1,14 @@
+// Thread pinning for LibTorch and the BLAS under it. Two cores are shared between a training run
+// and everything else: pin both pools before timing or training, or they oversubscribe.
+#pragma once
+
+namespace motionfork {
+
+// Sets LibTorch's intra-op and inter-op pools and OpenBLAS's pool to `threads` (>= 1).
+// Inter-op threads can only be set once per process; later calls leave it as it is.
+void PinThreads(int threads);
+
+// Threads to use by default: $MOTIONFORK_THREADS if set, else 1.
+int DefaultThreads();
+
+}  // namespace motionfork
