@@ -1,0 +1,98 @@
+// Benchmark: generator inference and training step at GSPS's Human3.6M sizes, one thread.
+//
+//   bench_generator [--threads N]
+//
+// Sizes: 16 nodes, t_his 25, t_pred 100, n_pre 10, hidden 256, 4 blocks, nz 64, 2 parts.
+// Prints: ms for 50 futures of one history; histories/s for 16 histories x 50 futures; FLOPs and
+// achieved GFLOP/s of the graph-conv products.
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <vector>
+
+#include "generator/generator_net.h"
+#include "torch_util/threads.h"
+
+using namespace motionfork;
+
+namespace {
+
+double Seconds(const std::chrono::steady_clock::time_point& t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Multiply-adds of one generator pass per sample (graph-conv products only).
+double MacsPerSample(const GeneratorOptions& o, int parts) {
+  const double N = o.num_nodes, C = o.coeff_features(), H = o.hidden, Z = o.nz;
+  const double input = N * C * H + Z * H + N * N * H;
+  const double hidden = 2 * o.blocks * (N * H * H + N * N * H);
+  const double output = N * H * C + N * N * C;
+  return parts * (input + hidden + output);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int threads = 1;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+  }
+  PinThreads(threads);
+  torch::manual_seed(0);
+  GeneratorOptions o;
+  o.num_nodes = 16;
+  o.t_his = 25;
+  o.t_pred = 100;
+  o.n_pre = 10;
+  o.hidden = 256;
+  o.blocks = 4;
+  o.nz = 64;
+  GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5}, {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}});
+  net->eval();
+  int64_t params = 0;
+  for (const auto& p : net->parameters()) params += p.numel();
+  std::printf("generator: %lld parameters, %d thread(s)\n", static_cast<long long>(params), threads);
+  const double gflop_per_sample = 2 * MacsPerSample(o, 2) / 1e9;
+
+  auto run = [&](int64_t histories, int64_t k, int reps) {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor h = torch::randn({histories, o.t_his, o.num_nodes, 3});
+    std::vector<double> times;
+    for (int r = 0; r < reps; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      std::vector<torch::Tensor> z = {torch::randn({histories * k, o.nz}), torch::randn({histories * k, o.nz})};
+      const torch::Tensor y = net->forward(h, z);
+      times.push_back(Seconds(t0));
+    }
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+  };
+  run(1, 50, 3);  // warm up
+  const double one = run(1, 50, 21);
+  std::printf("50 futures of 1 history: %.2f ms median (%.2f GFLOP, %.1f GFLOP/s)\n", one * 1e3,
+              50 * gflop_per_sample, 50 * gflop_per_sample / one);
+  const double batch = run(16, 50, 7);
+  std::printf("16 histories x 50 futures: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
+              batch * 1e3, 16 / batch, 16 * 50 * gflop_per_sample / batch);
+
+  // Training step of the network alone (forward + backward of a squared loss), 16 x 100 futures.
+  net->train();
+  torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(1e-3));
+  const torch::Tensor h = torch::randn({16, o.t_his, o.num_nodes, 3});
+  std::vector<double> steps;
+  for (int r = 0; r < 4; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<torch::Tensor> z = {torch::randn({1600, o.nz}), torch::randn({1600, o.nz})};
+    adam.zero_grad();
+    net->forward(h, z).pow(2).mean().backward();
+    adam.step();
+    steps.push_back(Seconds(t0));
+  }
+  std::sort(steps.begin(), steps.end());
+  std::printf("network training step, 16 histories x 100 futures (no losses): %.2f s median\n",
+              steps[steps.size() / 2]);
+  return 0;
+}

@@ -1,0 +1,52 @@
+// The GSPS generator as a LibTorch module: DCT of the padded history, one residual graph-conv
+// network per body part run in sequence (each overwrites only its own joints and has its own
+// latent), inverse DCT back to frames.
+//
+// Poses are root-relative without the root: N = J - 1 nodes, metres.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <vector>
+
+#include "generator/gcn.h"
+#include "generator/generator_options.h"
+
+namespace motionfork {
+
+class GeneratorNetImpl : public torch::nn::Module {
+ public:
+  // part_nodes: node indices (0..N-1) of each part, in prediction order; disjoint, covering all.
+  GeneratorNetImpl(const GeneratorOptions& options, std::vector<std::vector<int64_t>> part_nodes);
+
+  // history: [Bh, t_his, N, 3] -> DCT coefficients of the history padded with its last frame to
+  // t_his + t_pred frames, first n_pre kept: [N, Bh, 3 * n_pre] (per node: x, y, z blocks).
+  torch::Tensor EncodeHistory(const torch::Tensor& history) const;
+
+  // [N, Bh, C] -> [N, Bh * K, C]; sample b = h * K + k.
+  static torch::Tensor RepeatSamples(const torch::Tensor& coeffs, int64_t k);
+
+  // Runs the parts in order on coefficients [N, B, C] with one latent per part, z[p]: [B, nz].
+  torch::Tensor Decode(const torch::Tensor& coeffs, const std::vector<torch::Tensor>& z);
+
+  // Coefficients [N, B, C] -> frames [B, t_his + t_pred, N, 3].
+  torch::Tensor Frames(const torch::Tensor& coeffs) const;
+
+  // history [Bh, t_his, N, 3], z[p]: [Bh * K, nz] -> [Bh * K, t_his + t_pred, N, 3].
+  torch::Tensor forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z);
+
+  const GeneratorOptions& options() const { return options_; }
+  int64_t num_parts() const { return static_cast<int64_t>(parts_.size()); }
+  const std::vector<std::vector<int64_t>>& part_nodes() const { return part_nodes_; }
+
+ private:
+  GeneratorOptions options_;
+  std::vector<std::vector<int64_t>> part_nodes_;
+  std::vector<PartNetwork> parts_;
+  std::vector<torch::Tensor> masks_;  // [N, 1, 1] bool per part
+  torch::Tensor dct_;                 // [n_pre, T]
+  torch::Tensor idct_;                // [n_pre, T] (rows of the orthonormal DCT: its transpose inverts)
+};
+TORCH_MODULE(GeneratorNet);
+
+}  // namespace motionfork

@@ -1,0 +1,101 @@
+#include <catch2/catch.hpp>
+
+#include <torch/torch.h>
+
+#include "core/dct.h"
+#include "generator/generator_net.h"
+#include "torch_util/threads.h"
+
+using namespace motionfork;
+
+namespace {
+
+GeneratorOptions Tiny() {
+  GeneratorOptions o;
+  o.num_nodes = 6;
+  o.t_his = 5;
+  o.t_pred = 10;
+  o.n_pre = 4;
+  o.hidden = 16;
+  o.blocks = 2;
+  o.nz = 3;
+  return o;
+}
+
+std::vector<std::vector<int64_t>> TwoParts() { return {{0, 1, 2}, {3, 4, 5}}; }
+
+}  // namespace
+
+TEST_CASE("generator encodes the padded history with the orthonormal DCT") {
+  PinThreads(1);
+  torch::manual_seed(0);
+  GeneratorNet net(Tiny(), TwoParts());
+  const torch::Tensor h = torch::randn({2, 5, 6, 3});
+  const torch::Tensor c = net->EncodeHistory(h);
+  REQUIRE(c.sizes() == torch::IntArrayRef({6, 2, 12}));
+  // Independent: pad by hand, DCT with Eigen, compare coefficient l of node 4, axis y, history 1.
+  const Eigen::MatrixXd d = DctMatrix(15);
+  for (int l = 0; l < 4; ++l) {
+    double want = 0;
+    for (int t = 0; t < 15; ++t) want += d(l, t) * h[1][std::min(t, 4)][4][1].item<float>();
+    CHECK(c[4][1][1 * 4 + l].item<float>() == Approx(want).margin(1e-5));
+  }
+  // With all coefficients kept, Frames(Encode(h)) reproduces the padded history.
+  GeneratorOptions full = Tiny();
+  full.n_pre = 15;
+  GeneratorNet lossless(full, TwoParts());
+  const torch::Tensor back = lossless->Frames(lossless->EncodeHistory(h));
+  CHECK(torch::allclose(back.slice(1, 0, 5), h, 1e-5, 1e-5));
+  CHECK(torch::allclose(back.select(1, 14), h.select(1, 4), 1e-5, 1e-5));
+}
+
+TEST_CASE("generator shapes, parts in sequence and part control") {
+  PinThreads(1);
+  torch::manual_seed(1);
+  GeneratorNet net(Tiny(), TwoParts());
+  net->eval();
+  torch::NoGradGuard no_grad;
+  const torch::Tensor h = torch::randn({2, 5, 6, 3});
+  const int64_t K = 7;
+  std::vector<torch::Tensor> z = {torch::randn({2 * K, 3}), torch::randn({2 * K, 3})};
+  const torch::Tensor y = net->forward(h, z);
+  REQUIRE(y.sizes() == torch::IntArrayRef({14, 15, 6, 3}));
+  // Same latents -> same futures.
+  CHECK(torch::equal(y, net->forward(h, z)));
+  // Fix part 0's latent across samples: its nodes are identical in all K futures, part 1 varies.
+  std::vector<torch::Tensor> fixed = {z[0].view({2, K, 3}).select(1, 0).unsqueeze(1).expand({2, K, 3}).reshape({2 * K, 3}),
+                                      z[1]};
+  const torch::Tensor f = net->forward(h, fixed).view({2, K, 15, 6, 3});
+  const torch::Tensor legs = f.slice(3, 0, 3);
+  CHECK((legs - legs.select(1, 0).unsqueeze(1)).abs().max().item<float>() == 0.0f);
+  const torch::Tensor upper = f.slice(3, 3, 6);
+  CHECK((upper - upper.select(1, 0).unsqueeze(1)).abs().max().item<float>() > 1e-3f);
+  // Fixing the later part instead: part 0 varies, part 1 still differs (it sees part 0's output).
+  std::vector<torch::Tensor> fix_second = {z[0], fixed[0]};
+  const torch::Tensor g = net->forward(h, fix_second).view({2, K, 15, 6, 3});
+  CHECK((g.slice(3, 0, 3) - g.slice(3, 0, 3).select(1, 0).unsqueeze(1)).abs().max().item<float>() > 1e-3f);
+}
+
+TEST_CASE("every generator parameter receives a gradient") {
+  PinThreads(1);
+  torch::manual_seed(2);
+  GeneratorNet net(Tiny(), TwoParts());
+  net->train();
+  const torch::Tensor h = torch::randn({3, 5, 6, 3});
+  std::vector<torch::Tensor> z = {torch::randn({12, 3}), torch::randn({12, 3})};
+  net->forward(h, z).pow(2).mean().backward();
+  for (const auto& p : net->named_parameters()) {
+    INFO(p.key());
+    REQUIRE(p.value().grad().defined());
+    CHECK(p.value().grad().abs().sum().item<float>() > 0);
+  }
+}
+
+TEST_CASE("generator rejects mismatched inputs") {
+  GeneratorNet net(Tiny(), TwoParts());
+  CHECK_THROWS_WITH(net->EncodeHistory(torch::randn({2, 4, 6, 3})), Catch::Contains("expected history [B, 5, 6, 3]"));
+  CHECK_THROWS_WITH(GeneratorNet(Tiny(), std::vector<std::vector<int64_t>>{{0, 1}, {3, 4, 5}}),
+                    Catch::Contains("node 2 is in no body part"));
+  CHECK_THROWS_WITH(net->Decode(torch::randn({6, 2, 12}), {torch::randn({2, 3})}),
+                    Catch::Contains("expected 2 latents"));
+}
