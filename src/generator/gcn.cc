@@ -1,5 +1,7 @@
 #include "generator/gcn.h"
 
+#include "generator/fused_ops.h"
+
 #include <cmath>
 
 namespace motionfork {
@@ -58,8 +60,21 @@ GraphLayerImpl::GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t s
 
 torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z) {
   torch::Tensor y = conv->forward(x, z);
-  if (norm) y = norm->forward(y);
-  y = torch::tanh(y);
+  if (!norm) {
+    y = FastTanh(y);
+  } else if (is_training() && y.size(1) > 1) {
+    torch::Tensor mean, var;
+    y = BatchNormTanh(y, norm->gamma, norm->beta, norm->eps, &mean, &var);
+    torch::NoGradGuard no_grad;
+    const double n = static_cast<double>(x.size(1));
+    norm->running_mean.mul_(1 - norm->momentum).add_(norm->momentum * mean);
+    norm->running_var.mul_(1 - norm->momentum).add_(norm->momentum * var * (n / (n - 1)));
+  } else if (!torch::GradMode::is_enabled()) {
+    const torch::Tensor scale = norm->gamma * torch::rsqrt(norm->running_var + norm->eps);
+    y = ScaleShiftTanh(y, scale, norm->beta - norm->running_mean * scale);
+  } else {
+    y = FastTanh(norm->forward(y));
+  }
   if (dropout > 0 && is_training()) y = torch::dropout(y, dropout, /*train=*/true);
   return y;
 }
