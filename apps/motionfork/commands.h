@@ -15,5 +15,7 @@ struct GlobalOptions {
 void AddInfoCommand(CLI::App& app, GlobalOptions& global);
 void AddConvertCommand(CLI::App& app, GlobalOptions& global);
 void AddDatasetCommand(CLI::App& app, GlobalOptions& global);
+void AddCheckCommand(CLI::App& app, GlobalOptions& global);
+void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
 
 }  // namespace motionfork::app

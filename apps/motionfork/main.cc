@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   AddInfoCommand(app, global);
   AddConvertCommand(app, global);
   AddDatasetCommand(app, global);
+  AddCheckCommand(app, global);
+  AddConstraintsCommand(app, global);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
