@@ -1,7 +1,8 @@
 // Benchmark: angle-range constraints.
 //   1. the checker (no LibTorch), frames per second on one thread, for each shipped set;
 //   2. the LibTorch penalty, forward + backward on a batch of 16 x 100 x 125 frames
-//      ([1600, 125, J, 3]: 16 histories x 100 samples x 125 frames, H36M's window), one thread.
+//      ([1600, 125, J, 3]: 16 histories x 100 samples x 125 frames, H36M's window), one thread,
+//      with the fused CPU kernel (the default) and with composed tensor ops (the reference).
 //
 //   bench_constraints [CONFIG_DIR]     (default: <source tree>/configs)
 //
@@ -102,29 +103,34 @@ int main(int argc, char** argv) {
       const ConstraintSet set = ConstraintSet::Build(
           LoadConstraintConfig(ResolveConfigPath(config_dir, "constraints", k.name)),
           *skel.skeleton);
-      AnglePenalty penalty(set);
       const int J = set.num_joints();
       const std::vector<float> poses = Noisy(*k.pose, 1600 * 125, 2);
       const torch::Tensor base =
           torch::from_blob(const_cast<float*>(poses.data()), {1600, 125, J, 3}).clone();
-      std::vector<double> fwd, total;
-      for (int rep = 0; rep < 6; ++rep) {
-        torch::Tensor x = base.clone().requires_grad_(true);
-        const auto t0 = std::chrono::steady_clock::now();
-        torch::Tensor loss = penalty->forward(x);
-        const double f = Seconds(t0);
-        loss.backward();
-        const double t = Seconds(t0);
-        if (rep > 0) {
-          fwd.push_back(f);
-          total.push_back(t);
+      for (bool fused : {true, false}) {
+        AnglePenaltyOptions options;
+        options.fused_cpu = fused;
+        AnglePenalty penalty(set, options);
+        std::vector<double> fwd, total;
+        for (int rep = 0; rep < 6; ++rep) {
+          torch::Tensor x = base.clone().requires_grad_(true);
+          const auto t0 = std::chrono::steady_clock::now();
+          torch::Tensor loss = penalty->forward(x);
+          const double f = Seconds(t0);
+          loss.backward();
+          const double t = Seconds(t0);
+          if (rep > 0) {
+            fwd.push_back(f);
+            total.push_back(t);
+          }
         }
+        std::sort(fwd.begin(), fwd.end());
+        std::sort(total.begin(), total.end());
+        std::printf("  %-9s %2d angles, %-20s forward %7.1f ms, forward + backward %7.1f ms\n",
+                    k.name.c_str(), set.num_constraints(),
+                    fused ? "fused CPU kernel:" : "composed tensor ops:", 1e3 * fwd[fwd.size() / 2],
+                    1e3 * total[total.size() / 2]);
       }
-      std::sort(fwd.begin(), fwd.end());
-      std::sort(total.begin(), total.end());
-      std::printf("  %-9s %2d angles: forward %6.1f ms, forward + backward %6.1f ms\n",
-                  k.name.c_str(), set.num_constraints(), 1e3 * fwd[fwd.size() / 2],
-                  1e3 * total[total.size() / 2]);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_constraints: %s\n", e.what());
