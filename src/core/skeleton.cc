@@ -200,6 +200,24 @@ const Partition& Skeleton::GetPartition(std::string_view partition_name) const {
                               std::string(partition_name) + "'; known: " + JoinNames(known));
 }
 
+SkeletonSpec Skeleton::ToSpec() const {
+  SkeletonSpec spec;
+  spec.name = name_;
+  spec.joint_names = names_;
+  for (int j = 0; j < num_joints(); ++j) spec.parent_names.push_back(j ? names_[parents_[j]] : "");
+  for (const auto& [l, r] : left_right_) spec.left_right.emplace_back(names_[l], names_[r]);
+  for (const Partition& p : partitions_) {
+    PartitionSpec ps{p.name, {}};
+    for (const BodyPart& part : p.parts) {
+      PartSpec s{part.name, {}, {}, false};
+      for (int j : part.joints) s.joints.push_back(names_[j]);
+      ps.parts.push_back(std::move(s));
+    }
+    spec.partitions.push_back(std::move(ps));
+  }
+  return spec;
+}
+
 bool Skeleton::SameStructure(const Skeleton& other) const {
   return names_ == other.names_ && parents_ == other.parents_;
 }

@@ -88,6 +88,9 @@ class Skeleton {
   // Partition by name ("" = the first, i.e. the default); throws when absent.
   const Partition& GetPartition(std::string_view partition_name = "") const;
 
+  // The by-name description that Build() turns back into this skeleton (parts as joint lists).
+  SkeletonSpec ToSpec() const;
+
   // Same names and parents (pairs and partitions are not compared).
   bool SameStructure(const Skeleton& other) const;
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "generator/gcn.h"
-#include "generator/generator_options.h"
+#include "config/generator_options.h"
 
 namespace motionfork {
 

@@ -1,4 +1,4 @@
-#include "generator/generator_options.h"
+#include "config/generator_options.h"
 
 #include <stdexcept>
 #include <string>

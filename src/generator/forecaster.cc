@@ -1,0 +1,105 @@
+#include "generator/forecaster.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "generator/bundle.h"
+#include "generator/latents.h"
+
+namespace motionfork {
+
+struct Forecaster::Impl {
+  ModelConfig config;
+  std::shared_ptr<const Skeleton> skeleton;
+  PartPlan parts;
+  GeneratorNet net{nullptr};
+};
+
+Forecaster::Forecaster(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Forecaster::~Forecaster() = default;
+Forecaster::Forecaster(Forecaster&&) noexcept = default;
+Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
+
+Forecaster Forecaster::Load(const std::string& bundle_dir) {
+  auto impl = std::make_unique<Impl>();
+  impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
+  impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));
+  impl->parts = MakePartPlan(*impl->skeleton, impl->config.generator.partition);
+  return Forecaster(std::move(impl));
+}
+
+const ModelConfig& Forecaster::config() const { return impl_->config; }
+const std::shared_ptr<const Skeleton>& Forecaster::skeleton() const { return impl_->skeleton; }
+const PartPlan& Forecaster::parts() const { return impl_->parts; }
+
+std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& histories,
+                                                   int num_histories,
+                                                   const ForecastRequest& request) const {
+  const GeneratorOptions& g = impl_->config.generator;
+  const int64_t N = g.num_nodes;
+  if (request.k < 1) throw std::invalid_argument("Predict: expected k >= 1 futures, got " + std::to_string(request.k));
+  if (num_histories < 1 ||
+      histories.size() != static_cast<size_t>(num_histories) * g.t_his * N * 3) {
+    throw std::invalid_argument("Predict: expected histories [" + std::to_string(num_histories) + ", " +
+                                std::to_string(g.t_his) + ", " + std::to_string(N) + ", 3], got " +
+                                std::to_string(histories.size()) + " values");
+  }
+  for (float v : histories) {
+    if (!std::isfinite(v)) throw std::invalid_argument("Predict: the history holds NaN or Inf");
+  }
+  const std::vector<bool> fixed = impl_->parts.FixedMask(request.fixed_parts);
+  torch::NoGradGuard no_grad;
+  at::Generator gen = MakeGenerator(request.seed);
+  const torch::Tensor h =
+      torch::from_blob(const_cast<float*>(histories.data()), {num_histories, g.t_his, N, 3}).clone();
+  const auto z = SampleLatents(num_histories, request.k, g.nz, fixed, gen);
+  const torch::Tensor y = impl_->net->forward(h, z).slice(1, g.t_his).contiguous();  // [Bh*K, t_pred, N, 3]
+  return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
+}
+
+Forecast Forecaster::Predict(const Motion& history, int start, const ForecastRequest& request) const {
+  const GeneratorOptions& g = impl_->config.generator;
+  const Skeleton& want = *impl_->skeleton;
+  if (!history.skeleton().SameStructure(want)) {
+    throw std::invalid_argument("Predict: the history's skeleton '" + history.skeleton().name() +
+                                "' differs from the model's '" + want.name() +
+                                "' (joint names or parents); map it with --skeleton");
+  }
+  if (std::abs(history.fps() - impl_->config.fps) > 1e-6 * impl_->config.fps) {
+    throw std::invalid_argument("Predict: the history is at " + std::to_string(history.fps()) +
+                                " Hz, the model at " + std::to_string(impl_->config.fps) + " Hz; resample it");
+  }
+  if (start < 0 || start + g.t_his > history.num_frames()) {
+    throw std::invalid_argument("Predict: the model needs " + std::to_string(g.t_his) +
+                                " history frames from frame " + std::to_string(start) + ", the motion has " +
+                                std::to_string(history.num_frames()) + " frames");
+  }
+  const int J = want.num_joints();
+  Forecast f;
+  f.k = request.k;
+  f.t_his = g.t_his;
+  f.t_pred = g.t_pred;
+  f.joints = J;
+  f.fps = history.fps();
+  std::vector<float> rel;
+  rel.reserve(static_cast<size_t>(g.t_his) * (J - 1) * 3);
+  for (int t = start; t < start + g.t_his; ++t) {
+    const float* fr = history.frame(t);
+    f.history.insert(f.history.end(), fr, fr + J * 3);
+    for (int j = 1; j < J; ++j)
+      for (int a = 0; a < 3; ++a) rel.push_back(fr[3 * j + a] - fr[a]);
+  }
+  const std::vector<float> y = PredictRootRelative(rel, 1, request);
+  const float* root = history.at(start + g.t_his - 1, 0);
+  f.futures.resize(static_cast<size_t>(request.k) * g.t_pred * J * 3);
+  for (size_t s = 0; s < static_cast<size_t>(request.k) * g.t_pred; ++s) {
+    float* out = &f.futures[s * J * 3];
+    const float* in = &y[s * (J - 1) * 3];
+    for (int a = 0; a < 3; ++a) out[a] = root[a];
+    for (int j = 1; j < J; ++j)
+      for (int a = 0; a < 3; ++a) out[3 * j + a] = root[a] + in[3 * (j - 1) + a];
+  }
+  return f;
+}
+
+}  // namespace motionfork

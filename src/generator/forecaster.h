@@ -1,0 +1,64 @@
+// Forecaster: a saved generator bundle, loaded, turning histories into K futures. No LibTorch in
+// this header: apps, the evaluation and embedding programs use it as plain C++.
+//
+// Bundle (a folder): model.yaml (protocol, sizes, skeleton with parts; see config/model_config.h)
+// and generator.pt (LibTorch weights and batch-norm statistics).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bodyparts/part_plan.h"
+#include "config/model_config.h"
+#include "core/motion.h"
+
+namespace motionfork {
+
+struct ForecastRequest {
+  int k = 50;                            // futures per history
+  uint64_t seed = 0;                     // same seed, same futures
+  std::vector<std::string> fixed_parts;  // parts whose latent is shared by all K futures
+};
+
+struct Forecast {
+  int k = 0, t_his = 0, t_pred = 0, joints = 0;
+  double fps = 0;
+  std::vector<float> history;  // [t_his, J, 3] the input frames, metres
+  // [K, t_pred, J, 3] metres; the model predicts root-relative poses, placed here at the last
+  // history frame's root position.
+  std::vector<float> futures;
+};
+
+class Forecaster {
+ public:
+  // Throws FormatError naming the missing or malformed file.
+  static Forecaster Load(const std::string& bundle_dir);
+  ~Forecaster();
+  Forecaster(Forecaster&&) noexcept;
+  Forecaster& operator=(Forecaster&&) noexcept;
+
+  const ModelConfig& config() const;
+  const std::shared_ptr<const Skeleton>& skeleton() const;
+  const PartPlan& parts() const;
+
+  // history: the model's skeleton (same joint names and parents) at the model's frame rate, at
+  // least t_his frames from `start`; frames [start, start + t_his) are used. Throws
+  // std::invalid_argument naming what does not match.
+  Forecast Predict(const Motion& history, int start, const ForecastRequest& request) const;
+
+  // Batched, root-relative without the root (what the metrics use): histories
+  // [Bh, t_his, J-1, 3] -> futures [Bh, K, t_pred, J-1, 3], metres.
+  std::vector<float> PredictRootRelative(const std::vector<float>& histories, int num_histories,
+                                         const ForecastRequest& request) const;
+
+  // Saves a bundle (model.yaml + generator.pt) from a trained network; used by training.
+  struct Impl;
+
+ private:
+  explicit Forecaster(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace motionfork

@@ -1,0 +1,41 @@
+// GSPS training losses (LibTorch). Poses are root-relative without the root: [.., N, 3], metres.
+#pragma once
+
+#include <torch/torch.h>
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "config/training_options.h"
+
+namespace motionfork {
+
+struct LossBatch {
+  torch::Tensor pred;         // [Bh * K, T, N, 3], K = prod(per_part), nested sample order
+  torch::Tensor truth;        // [Bh, T, N, 3]
+  torch::Tensor pseudo;       // [Bh, M, t_pred, N, 3] pseudo multimodal futures (M may be 0)
+  torch::Tensor pseudo_mask;  // [Bh, M] 1 where a pseudo future exists
+  std::vector<int64_t> per_part;                // nested samples per part
+  std::vector<std::vector<int64_t>> part_nodes;  // nodes of each part
+  std::vector<int64_t> node_parents;             // parent node per node, -1 = the root (origin)
+  int64_t t_his = 0;
+};
+
+// Optional terms from other modules: scalar tensors from predicted poses.
+struct LossHooks {
+  std::function<torch::Tensor(const torch::Tensor& poses /*[M, N, 3]*/)> prior_nll;
+  std::function<torch::Tensor(const torch::Tensor& poses /*[B, T, N, 3]*/)> angle_penalty;
+};
+
+struct LossTerms {
+  std::vector<std::pair<std::string, torch::Tensor>> terms;  // unweighted, in GSPS order
+  torch::Tensor total;                                       // weighted sum
+};
+
+// prior_offset: first predicted frame scored by the prior (then every `prior_step`).
+LossTerms ComputeLosses(const LossBatch& batch, const LossWeights& weights, const LossHooks& hooks,
+                        int64_t prior_offset, int64_t prior_step);
+
+}  // namespace motionfork

@@ -1,0 +1,37 @@
+// Training windows for the generator and their pseudo multimodal futures (no LibTorch).
+//
+// Windows: every `stride`-th start in every training clip, t_his + t_pred frames, poses
+// root-relative without the root. Pseudo multimodal futures (GSPS): other windows whose last
+// history pose is within a mean per-joint distance of this one's and whose future differs by at
+// least a given mean per-joint distance; the closest ones first, up to a maximum. Built once and
+// cached (the cache key covers the clips and the options).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "config/training_options.h"
+#include "dataset/dataset.h"
+#include "dataset/windows.h"
+
+namespace motionfork {
+
+struct TrainingWindows {
+  int t_his = 0, t_pred = 0, num_nodes = 0;
+  std::vector<std::vector<float>> clip_poses;  // per clip [T_c, N, 3], root-relative, no root
+  std::vector<Window> windows;                 // (clip, start)
+  std::vector<std::vector<int32_t>> multimodal;  // per window: indices of pseudo futures
+
+  int num_frames() const { return t_his + t_pred; }
+  // Copies window w's frames into out [T, N, 3].
+  void Gather(int w, float* out) const;
+};
+
+// progress(fraction) is called while the multimodal sets are computed. cache_dir "" = no cache.
+TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
+                                     const MultimodalOptions& options, const std::string& cache_dir,
+                                     const std::function<void(double)>& progress = nullptr);
+
+}  // namespace motionfork
