@@ -26,6 +26,8 @@ int main(int argc, char** argv) {
   AddInfoCommand(app, global);
   AddConvertCommand(app, global);
   AddDatasetCommand(app, global);
+  AddCheckCommand(app, global);
+  AddConstraintsCommand(app, global);
   AddTrainCommand(app, global);
   AddPredictCommand(app, global);
   AddCheckCommand(app, global);

@@ -143,7 +143,8 @@ TEST_CASE("constraints show and fit on the command line") {
     return;
   }
   const char* env = std::getenv("MOTIONFORK_CACHE_DIR");
-  const std::string cache = env && *env ? env : dir.file("cache");
+  const std::string cache =
+      env && *env ? std::string(env) : std::string(MOTIONFORK_BINARY_DIR) + "/test-cache";
   const std::string out = dir.file("bandai_fitted.yaml");
   r = Motionfork(
       "--cache-dir " + cache + " constraints fit --protocol bandai --data " + data + " -o " + out,
