@@ -26,8 +26,6 @@ int main(int argc, char** argv) {
   AddInfoCommand(app, global);
   AddConvertCommand(app, global);
   AddDatasetCommand(app, global);
-  AddCheckCommand(app, global);
-  AddConstraintsCommand(app, global);
   AddTrainCommand(app, global);
   AddPredictCommand(app, global);
   AddCheckCommand(app, global);
