@@ -1,6 +1,4 @@
-#include <catch2/catch.hpp>
-
-#include <torch/torch.h>
+#include "torch_catch.h"
 
 #include "core/dct.h"
 #include "generator/generator_net.h"

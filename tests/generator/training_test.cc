@@ -1,7 +1,5 @@
 // Training, bundles and the Forecaster on synthetic data built in code.
-#include <catch2/catch.hpp>
-
-#include <torch/torch.h>
+#include "torch_catch.h"
 
 #include <filesystem>
 
