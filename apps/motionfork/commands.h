@@ -15,6 +15,7 @@ struct GlobalOptions {
 void AddInfoCommand(CLI::App& app, GlobalOptions& global);
 void AddConvertCommand(CLI::App& app, GlobalOptions& global);
 void AddDatasetCommand(CLI::App& app, GlobalOptions& global);
+void AddEvalCommand(CLI::App& app, GlobalOptions& global);
 void AddTrainCommand(CLI::App& app, GlobalOptions& global);
 void AddPredictCommand(CLI::App& app, GlobalOptions& global);
 void AddCheckCommand(CLI::App& app, GlobalOptions& global);

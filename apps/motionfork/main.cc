@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   AddInfoCommand(app, global);
   AddConvertCommand(app, global);
   AddDatasetCommand(app, global);
+  AddEvalCommand(app, global);
   AddTrainCommand(app, global);
   AddPredictCommand(app, global);
   AddCheckCommand(app, global);

@@ -1,0 +1,253 @@
+#include "eval/evaluate.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace motionfork {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Running sums for one group of windows.
+struct Sums {
+  int windows = 0;
+  double apd = 0, ade = 0, fde = 0, mmade = 0, mmfde = 0, set_size = 0;
+  double apd_varied = 0, apd_fixed = 0;
+  std::vector<double> predicted, truth;  // [scorers] per-window means
+
+  explicit Sums(size_t scorers) : predicted(scorers, 0.0), truth(scorers, 0.0) {}
+
+  void Add(const WindowMetrics& m, int set_size, double varied, double fixed,
+           const std::vector<double>& pred, const std::vector<double>& gt) {
+    ++windows;
+    apd += m.apd;
+    ade += m.ade;
+    fde += m.fde;
+    mmade += m.mmade;
+    mmfde += m.mmfde;
+    this->set_size += set_size;
+    apd_varied += varied;
+    apd_fixed += fixed;
+    for (size_t s = 0; s < predicted.size(); ++s) {
+      predicted[s] += pred[s];
+      truth[s] += gt[s];
+    }
+  }
+
+  // Every window has the same number of frames, so the mean of per-window frame means is the
+  // mean over frames.
+  Figures Mean() const {
+    Figures f;
+    f.windows = windows;
+    if (windows == 0) return f;
+    const double n = windows;
+    f.apd = apd / n;
+    f.ade = ade / n;
+    f.fde = fde / n;
+    f.mmade = mmade / n;
+    f.mmfde = mmfde / n;
+    f.mean_set_size = set_size / n;
+    f.apd_varied = apd_varied / n;
+    f.apd_fixed = apd_fixed / n;
+    for (size_t s = 0; s < predicted.size(); ++s) {
+      f.predicted_scores.push_back(predicted[s] / n);
+      f.truth_scores.push_back(truth[s] / n);
+    }
+    return f;
+  }
+};
+
+// Mean of a scorer over n frames [n, J, 3].
+double MeanScore(const FrameScorer& scorer, const float* positions, int n,
+                 std::vector<double>* scratch, int window) {
+  scratch->assign(n, 0.0);
+  scorer.score(positions, n, scratch->data());
+  double sum = 0;
+  for (double s : *scratch) {
+    if (!std::isfinite(s)) {
+      throw std::invalid_argument("scorer '" + scorer.name +
+                                  "' returned a non-finite score in window " +
+                                  std::to_string(window));
+    }
+    sum += s;
+  }
+  return sum / n;
+}
+
+}  // namespace
+
+uint64_t WindowSeed(uint64_t seed, int window) {
+  uint64_t z = seed + 0x9E3779B97F4A7C15ull * (static_cast<uint64_t>(window) + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& options) {
+  const int N = ts.num_windows();
+  const int K = options.num_samples;
+  const int T = ts.t_pred;
+  const int D = ts.pose_dims;
+  const int J = ts.num_joints();
+  if (!predictor.skeleton().SameStructure(*ts.skeleton)) {
+    throw std::invalid_argument(
+        predictor.name() + " works on skeleton '" + predictor.skeleton().name() + "' (" +
+        std::to_string(predictor.skeleton().num_joints()) + " joints); the test windows are on '" +
+        ts.skeleton->name() + "' (" + std::to_string(J) +
+        " joints): expected the protocol's skeleton");
+  }
+  if (predictor.t_his() != ts.t_his || predictor.t_pred() != T) {
+    throw std::invalid_argument(predictor.name() + " predicts " +
+                                std::to_string(predictor.t_pred()) + " frames from " +
+                                std::to_string(predictor.t_his()) + "; the protocol expects " +
+                                std::to_string(T) + " from " + std::to_string(ts.t_his));
+  }
+  if (ts.multimodal.num_windows() != N) {
+    throw std::invalid_argument("Evaluate: expected multimodal sets for " + std::to_string(N) +
+                                " windows, got " + std::to_string(ts.multimodal.num_windows()) +
+                                " (call AttachMultimodalSets first)");
+  }
+  if (K < 2) {
+    throw std::invalid_argument(
+        "Evaluate: expected K >= 2 samples (APD is a mean over pairs of "
+        "samples), got " +
+        std::to_string(K));
+  }
+  std::vector<int> fixed_dims, varied_dims;
+  EvalResult result;
+  if (options.fixed_part >= 0) {
+    const Partition& partition = ts.skeleton->GetPartition();
+    if (options.fixed_part >= static_cast<int>(partition.parts.size())) {
+      throw std::invalid_argument("Evaluate: expected fixed_part in [0, " +
+                                  std::to_string(partition.parts.size()) + "), got " +
+                                  std::to_string(options.fixed_part));
+    }
+    const BodyPart& part = partition.parts[options.fixed_part];
+    result.fixed_part = part.name;
+    std::vector<char> in_part(J, 0);
+    for (int j : part.joints) in_part[j] = 1;
+    for (int j = 1; j < J; ++j) {
+      for (int a = 0; a < 3; ++a)
+        (in_part[j] ? fixed_dims : varied_dims).push_back(3 * (j - 1) + a);
+    }
+  }
+  for (const FrameScorer& s : options.scorers) {
+    if (!s.score) throw std::invalid_argument("Evaluate: scorer '" + s.name + "' has no function");
+  }
+  const size_t scorers = options.scorers.size();
+  result.num_samples = K;
+  result.seed = options.seed;
+  result.per_window.assign(N, WindowMetrics{});
+  result.evaluated.assign(N, 0);
+
+  Sums all(scorers);
+  std::vector<Sums> per_action(ts.actions.size(), Sums(scorers));
+  std::vector<float> history, futures;
+  std::vector<float> samples(static_cast<size_t>(K) * T * D);       // [K, T, D]
+  std::vector<float> relative(static_cast<size_t>(K) * T * J * 3);  // [K * T, J, 3] root at 0
+  std::vector<float> truth_positions(static_cast<size_t>(T) * J * 3);
+  std::vector<const float*> truths;
+  std::vector<Displacement> displacements;
+  std::vector<double> pred_scores(scorers), truth_scores(scorers), scratch;
+  DisplacementWorkspace workspace;
+
+  for (int i = 0; i < N; ++i) {
+    const int set_size = ts.multimodal.set_size(i);
+    if (!options.keep_singleton_sets && set_size == 1) {
+      ++result.windows_skipped;
+      if (options.progress) options.progress(i + 1, N);
+      continue;
+    }
+    auto start = Clock::now();
+    history.assign(ts.history(i), ts.history(i) + static_cast<size_t>(ts.t_his) * J * 3);
+    PredictRequest request;
+    request.num_samples = K;
+    request.seed = WindowSeed(options.seed, i);
+    request.fixed_part = options.fixed_part;
+    predictor.Predict(history, request, &futures);
+    result.seconds_predicting += Since(start);
+
+    start = Clock::now();
+    for (size_t f = 0; f < static_cast<size_t>(K) * T; ++f) {
+      const float* p = futures.data() + f * J * 3;
+      float* r = relative.data() + f * J * 3;
+      float* s = samples.data() + f * D;
+      for (int e = 0; e < J * 3; ++e) {
+        if (!std::isfinite(p[e])) {
+          throw std::invalid_argument(
+              predictor.name() + " returned a non-finite position in window " + std::to_string(i) +
+              " (clip '" + ts.clip_names[ts.windows[i].clip] + "', start frame " +
+              std::to_string(ts.windows[i].start) + ")");
+        }
+        r[e] = p[e] - p[e % 3];
+      }
+      std::copy(r + 3, r + J * 3, s);
+    }
+    WindowMetrics m;
+    m.apd = Apd(samples.data(), K, T, D);
+    truths.clear();
+    int self = -1;
+    for (int k = 0; k < set_size; ++k) {
+      const int member = ts.multimodal.set(i)[k];
+      if (member == i) self = k;
+      truths.push_back(ts.future(member));
+    }
+    if (self < 0) {
+      throw std::invalid_argument(
+          "Evaluate: window " + std::to_string(i) +
+          " is missing from its own multimodal set (sets built for other windows?)");
+    }
+    workspace.Run(samples.data(), K, T, D, truths, &displacements);
+    m.ade = displacements[self].ade;
+    m.fde = displacements[self].fde;
+    for (const Displacement& d : displacements) {
+      m.mmade += d.ade;
+      m.mmfde += d.fde;
+    }
+    m.mmade /= set_size;
+    m.mmfde /= set_size;
+    double varied = 0, fixed = 0;
+    if (options.fixed_part >= 0) {
+      if (!varied_dims.empty()) varied = ApdOfDims(samples.data(), K, T, D, varied_dims);
+      if (!fixed_dims.empty()) fixed = ApdOfDims(samples.data(), K, T, D, fixed_dims);
+    }
+    result.seconds_metrics += Since(start);
+
+    if (scorers > 0) {
+      start = Clock::now();
+      const float* gt = ts.future(i);
+      for (int t = 0; t < T; ++t) {
+        float* o = truth_positions.data() + static_cast<size_t>(t) * J * 3;
+        o[0] = o[1] = o[2] = 0;
+        std::copy(gt + static_cast<size_t>(t) * D, gt + static_cast<size_t>(t + 1) * D, o + 3);
+      }
+      for (size_t s = 0; s < scorers; ++s) {
+        pred_scores[s] = MeanScore(options.scorers[s], relative.data(), K * T, &scratch, i);
+        truth_scores[s] = MeanScore(options.scorers[s], truth_positions.data(), T, &scratch, i);
+      }
+      result.seconds_scoring += Since(start);
+    }
+
+    result.per_window[i] = m;
+    result.evaluated[i] = 1;
+    all.Add(m, set_size, varied, fixed, pred_scores, truth_scores);
+    per_action[ts.action[i]].Add(m, set_size, varied, fixed, pred_scores, truth_scores);
+    if (options.progress) options.progress(i + 1, N);
+  }
+  if (all.windows == 0) {
+    throw std::invalid_argument("Evaluate: every one of the " + std::to_string(N) +
+                                " windows has a singleton multimodal set and was skipped "
+                                "(keep_singleton_sets is false)");
+  }
+  result.overall = all.Mean();
+  for (const Sums& s : per_action) result.per_action.push_back(s.Mean());
+  return result;
+}
+
+}  // namespace motionfork
