@@ -18,6 +18,7 @@ void AddDatasetCommand(CLI::App& app, GlobalOptions& global);
 void AddEvalCommand(CLI::App& app, GlobalOptions& global);
 void AddTrainCommand(CLI::App& app, GlobalOptions& global);
 void AddPredictCommand(CLI::App& app, GlobalOptions& global);
+void AddPriorCommand(CLI::App& app, GlobalOptions& global);
 void AddCheckCommand(CLI::App& app, GlobalOptions& global);
 void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
 

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   AddEvalCommand(app, global);
   AddTrainCommand(app, global);
   AddPredictCommand(app, global);
+  AddPriorCommand(app, global);
   AddCheckCommand(app, global);
   AddConstraintsCommand(app, global);
   try {

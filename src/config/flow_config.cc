@@ -1,0 +1,306 @@
+#include "config/flow_config.h"
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "config/yaml_util.h"
+
+namespace motionfork {
+namespace {
+
+using yaml_util::Fail;
+using yaml_util::Get;
+using yaml_util::GetOr;
+
+YAML::Node LoadText(const std::string& text, const std::string& source) {
+  try {
+    YAML::Node root = YAML::Load(text);
+    if (!root.IsMap())
+      throw FormatError(FormatMessage(source, "", "expected a YAML mapping at the top level"));
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw FormatError(FormatMessage(source, "line " + std::to_string(e.mark.line + 1), e.msg));
+  }
+}
+
+// Rejects keys outside `known` (typos would otherwise silently keep a default).
+void CheckKeys(const std::string& file, const YAML::Node& map, const std::string& section,
+               const std::set<std::string>& known) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key)) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    Fail(file, kv.first,
+         "unknown key '" + (section.empty() ? key : section + "." + key) + "' (known: " + list +
+             ")");
+  }
+}
+
+YAML::Node Section(const std::string& file, const YAML::Node& root, const std::string& key,
+                   bool required) {
+  const YAML::Node n = root[key];
+  if (!n || n.IsNull()) {
+    if (required) Fail(file, root, "missing mapping '" + key + "'");
+    return YAML::Node(YAML::NodeType::Map);
+  }
+  if (!n.IsMap()) Fail(file, n, "key '" + key + "' must be a mapping");
+  return n;
+}
+
+void ParseModel(const std::string& file, const YAML::Node& n, FlowOptions* o) {
+  CheckKeys(file, n, "model", {"layers", "reflections", "prelu_init"});
+  o->num_layers = GetOr<int>(file, n, "layers", o->num_layers);
+  o->num_reflections = GetOr<int>(file, n, "reflections", o->num_reflections);
+  o->prelu_init = GetOr<double>(file, n, "prelu_init", o->prelu_init);
+}
+
+void ParseTraining(const std::string& file, const YAML::Node& n, PriorTrainOptions* o) {
+  CheckKeys(file, n, "training",
+            {"epochs", "constant_epochs", "batch_size", "learning_rate", "weight_decay",
+             "adam_beta1", "adam_beta2", "adam_eps", "seed", "held_out_share", "frame_stride"});
+  o->epochs = GetOr<int>(file, n, "epochs", o->epochs);
+  o->constant_epochs = GetOr<int>(file, n, "constant_epochs", o->constant_epochs);
+  o->batch_size = GetOr<int>(file, n, "batch_size", o->batch_size);
+  o->learning_rate = GetOr<double>(file, n, "learning_rate", o->learning_rate);
+  o->weight_decay = GetOr<double>(file, n, "weight_decay", o->weight_decay);
+  o->adam_beta1 = GetOr<double>(file, n, "adam_beta1", o->adam_beta1);
+  o->adam_beta2 = GetOr<double>(file, n, "adam_beta2", o->adam_beta2);
+  o->adam_eps = GetOr<double>(file, n, "adam_eps", o->adam_eps);
+  o->seed = GetOr<uint64_t>(file, n, "seed", o->seed);
+  o->held_out_share = GetOr<double>(file, n, "held_out_share", o->held_out_share);
+  o->frame_stride = GetOr<int>(file, n, "frame_stride", o->frame_stride);
+}
+
+PriorConfig ParseConfigSections(const std::string& file, const YAML::Node& root) {
+  PriorConfig c;
+  ParseModel(file, Section(file, root, "model", false), &c.model);
+  ParseTraining(file, Section(file, root, "training", false), &c.training);
+  try {
+    ValidatePriorConfig(c);
+  } catch (const std::invalid_argument& e) {
+    throw FormatError(FormatMessage(file, "", e.what()));
+  }
+  return c;
+}
+
+std::string Num(double v) {
+  if (std::isnan(v)) return ".nan";
+  if (std::isinf(v)) return v > 0 ? ".inf" : "-.inf";
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+
+std::string Quote(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string NumList(const std::vector<double>& v) {
+  std::string s = "[";
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + Num(v[i]);
+  return s + "]";
+}
+
+std::vector<double> DoubleList(const std::string& file, const YAML::Node& map,
+                               const std::string& key) {
+  const YAML::Node n = map[key];
+  if (!n) Fail(file, map, "missing key '" + key + "'");
+  if (!n.IsSequence()) Fail(file, n, "key '" + key + "' must be a list of numbers");
+  std::vector<double> out;
+  for (const YAML::Node& e : n) {
+    try {
+      out.push_back(e.as<double>());
+    } catch (const YAML::Exception&) {
+      Fail(file, e, "key '" + key + "' must be a list of numbers (found " + YAML::Dump(e) + ")");
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+PriorConfig ParseFlowConfig(const std::string& yaml_text, const std::string& source_name) {
+  const YAML::Node root = LoadText(yaml_text, source_name);
+  CheckKeys(source_name, root, "", {"model", "training"});
+  return ParseConfigSections(source_name, root);
+}
+
+PriorConfig LoadFlowConfig(const std::string& path) {
+  const YAML::Node root = yaml_util::LoadFile(path);
+  CheckKeys(path, root, "", {"model", "training"});
+  return ParseConfigSections(path, root);
+}
+
+std::string FormatFlowConfig(const PriorConfig& c) {
+  const FlowOptions& m = c.model;
+  const PriorTrainOptions& t = c.training;
+  std::string s;
+  s += "model:\n";
+  s += "  layers: " + std::to_string(m.num_layers) + "\n";
+  s += "  reflections: " + std::to_string(m.num_reflections) + "\n";
+  s += "  prelu_init: " + Num(m.prelu_init) + "\n";
+  s += "training:\n";
+  s += "  epochs: " + std::to_string(t.epochs) + "\n";
+  s += "  constant_epochs: " + std::to_string(t.constant_epochs) + "\n";
+  s += "  batch_size: " + std::to_string(t.batch_size) + "\n";
+  s += "  learning_rate: " + Num(t.learning_rate) + "\n";
+  s += "  weight_decay: " + Num(t.weight_decay) + "\n";
+  s += "  adam_beta1: " + Num(t.adam_beta1) + "\n";
+  s += "  adam_beta2: " + Num(t.adam_beta2) + "\n";
+  s += "  adam_eps: " + Num(t.adam_eps) + "\n";
+  s += "  seed: " + std::to_string(t.seed) + "\n";
+  s += "  held_out_share: " + Num(t.held_out_share) + "\n";
+  s += "  frame_stride: " + std::to_string(t.frame_stride) + "\n";
+  return s;
+}
+
+PriorManifest ParsePriorManifest(const std::string& yaml_text, const std::string& file) {
+  const YAML::Node root = LoadText(yaml_text, file);
+  PriorManifest m;
+  const std::string format = GetOr<std::string>(file, root, "format", "");
+  if (format != PriorManifest::kFormat) {
+    Fail(file, root,
+         std::string("expected format '") + PriorManifest::kFormat +
+             "' (a motionfork pose-prior bundle), found '" + format + "'");
+  }
+  m.version = Get<int>(file, root, "version");
+  if (m.version < 1 || m.version > PriorManifest::kVersion) {
+    Fail(file, root["version"],
+         "bundle version " + std::to_string(m.version) +
+             " is not readable by this build (reads 1.." + std::to_string(PriorManifest::kVersion) +
+             ")");
+  }
+  const YAML::Node sk = Section(file, root, "skeleton", true);
+  m.skeleton_name = Get<std::string>(file, sk, "name");
+  m.skeleton_config = GetOr<std::string>(file, sk, "config", "");
+  const YAML::Node joints = sk["joints"];
+  if (!joints || !joints.IsSequence() || joints.size() < 2) {
+    Fail(file, joints ? joints : sk,
+         "skeleton.joints must be a list of [name, parent] (>= 2 joints)");
+  }
+  for (const YAML::Node& j : joints) {
+    if (!j.IsSequence() || j.size() != 2 || !j[0].IsScalar()) {
+      Fail(file, j, "skeleton.joints: expected [name, parent] with parent ~ for the root");
+    }
+    m.joint_names.push_back(j[0].as<std::string>());
+    if (j[1].IsNull()) {
+      m.parents.push_back(-1);
+      continue;
+    }
+    const std::string parent = j[1].as<std::string>();
+    int index = -1;
+    for (size_t k = 0; k + 1 < m.joint_names.size(); ++k) {
+      if (m.joint_names[k] == parent) index = static_cast<int>(k);
+    }
+    if (index < 0) {
+      Fail(file, j,
+           "skeleton.joints: parent '" + parent + "' of '" + m.joint_names.back() +
+               "' must be listed before it");
+    }
+    m.parents.push_back(index);
+  }
+  m.bone_lengths = DoubleList(file, root, "bone_lengths");
+  m.dim = Get<int>(file, root, "dim");
+  CheckKeys(file, root, "",
+            {"format", "version", "skeleton", "bone_lengths", "dim", "model", "training", "summary",
+             "weights"});
+  m.config = ParseConfigSections(file, root);
+
+  const YAML::Node s = Section(file, root, "summary", false);
+  PriorTrainingSummary& y = m.summary;
+  y.protocol = GetOr<std::string>(file, s, "protocol", "");
+  y.fps = GetOr<double>(file, s, "fps", 0.0);
+  y.train_frames = GetOr<int64_t>(file, s, "train_frames", 0);
+  y.held_out_frames = GetOr<int64_t>(file, s, "held_out_frames", 0);
+  y.test_frames = GetOr<int64_t>(file, s, "test_frames", 0);
+  y.epochs_completed = GetOr<int>(file, s, "epochs_completed", 0);
+  if (s["train_nll"]) y.train_nll = DoubleList(file, s, "train_nll");
+  if (s["held_out_nll"]) y.held_out_nll = DoubleList(file, s, "held_out_nll");
+  const double nan = std::nan("");
+  y.test_nll = GetOr<double>(file, s, "test_nll", nan);
+  y.held_out_nll_q50 = GetOr<double>(file, s, "held_out_nll_q50", nan);
+  y.held_out_nll_q90 = GetOr<double>(file, s, "held_out_nll_q90", nan);
+  y.held_out_nll_q99 = GetOr<double>(file, s, "held_out_nll_q99", nan);
+  y.seconds = GetOr<double>(file, s, "seconds", 0.0);
+  y.threads = GetOr<int>(file, s, "threads", 0);
+
+  const YAML::Node w = Section(file, root, "weights", true);
+  m.weights_file = Get<std::string>(file, w, "file");
+  if (m.weights_file.find('/') != std::string::npos ||
+      m.weights_file.find('\\') != std::string::npos) {
+    Fail(file, w["file"],
+         "weights.file must be a file name inside the bundle folder, found '" + m.weights_file +
+             "'");
+  }
+  m.weights_checksum = Get<std::string>(file, w, "checksum");
+  const YAML::Node params = w["parameters"];
+  if (!params || !params.IsSequence()) Fail(file, w, "weights.parameters must be a list");
+  for (const YAML::Node& p : params) {
+    PriorParameterEntry e;
+    e.name = Get<std::string>(file, p, "name");
+    const YAML::Node shape = p["shape"];
+    if (!shape || !shape.IsSequence()) Fail(file, p, "weights.parameters: 'shape' must be a list");
+    for (const YAML::Node& d : shape) e.shape.push_back(d.as<int64_t>());
+    m.parameters.push_back(std::move(e));
+  }
+  return m;
+}
+
+std::string FormatPriorManifest(const PriorManifest& m) {
+  std::string s;
+  s += "# motionfork pose prior: a normalizing flow on unit limb directions (GSPS).\n";
+  s += "# Load with PosePrior::Load (src/flow/pose_prior.h) or 'motionfork prior score/sample\n";
+  s += "# --model DIR'. Weights: weights.npy, float32, the parameters below concatenated in "
+       "order.\n";
+  s += std::string("format: ") + PriorManifest::kFormat + "\n";
+  s += "version: " + std::to_string(m.version) + "\n";
+  s += "skeleton:\n";
+  s += "  name: " + Quote(m.skeleton_name) + "\n";
+  s += "  config: " + Quote(m.skeleton_config) + "\n";
+  s += "  joints:  # [name, parent]\n";
+  for (size_t j = 0; j < m.joint_names.size(); ++j) {
+    const int p = j < m.parents.size() ? m.parents[j] : -1;
+    s += "    - [" + Quote(m.joint_names[j]) + ", " +
+         (p < 0 ? std::string("~") : Quote(m.joint_names[p])) + "]\n";
+  }
+  s += "bone_lengths: " + NumList(m.bone_lengths) +
+       "  # metres, limb k ends at joint k + 1; default for sampling\n";
+  s += "dim: " + std::to_string(m.dim) + "  # 3 x (joints - 1) numbers per pose\n";
+  s += FormatFlowConfig(m.config);
+  const PriorTrainingSummary& y = m.summary;
+  s += "summary:  # NLL in nats per pose (48-D density for 17 joints); lower = more likely\n";
+  s += "  protocol: " + Quote(y.protocol) + "\n";
+  s += "  fps: " + Num(y.fps) + "\n";
+  s += "  train_frames: " + std::to_string(y.train_frames) + "\n";
+  s += "  held_out_frames: " + std::to_string(y.held_out_frames) + "\n";
+  s += "  test_frames: " + std::to_string(y.test_frames) + "\n";
+  s += "  epochs_completed: " + std::to_string(y.epochs_completed) + "\n";
+  s += "  train_nll: " + NumList(y.train_nll) + "\n";
+  s += "  held_out_nll: " + NumList(y.held_out_nll) + "\n";
+  s += "  test_nll: " + Num(y.test_nll) + "\n";
+  s += "  held_out_nll_q50: " + Num(y.held_out_nll_q50) + "\n";
+  s += "  held_out_nll_q90: " + Num(y.held_out_nll_q90) + "\n";
+  s += "  held_out_nll_q99: " + Num(y.held_out_nll_q99) + "\n";
+  s += "  seconds: " + Num(y.seconds) + "\n";
+  s += "  threads: " + std::to_string(y.threads) + "\n";
+  s += "weights:\n";
+  s += "  file: " + Quote(m.weights_file) + "\n";
+  s += "  checksum: " + Quote(m.weights_checksum) + "\n";
+  s += "  parameters:\n";
+  for (const PriorParameterEntry& p : m.parameters) {
+    s += "    - {name: " + Quote(p.name) + ", shape: [";
+    for (size_t i = 0; i < p.shape.size(); ++i) s += (i ? ", " : "") + std::to_string(p.shape[i]);
+    s += "]}\n";
+  }
+  return s;
+}
+
+}  // namespace motionfork
