@@ -5,6 +5,8 @@
 #include "app_common.h"
 #include "commands.h"
 #include "config/config_paths.h"
+#include "config/constraint_config.h"
+#include "constraints/torch/angle_penalty.h"
 #include "config/model_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
@@ -65,7 +67,20 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   model.info["seed"] = std::to_string(cfg.training.seed);
   model.info["epochs"] = std::to_string(cfg.training.epochs);
 
-  LossHooks hooks;  // prior and angle terms join when their modules are wired in
+  LossHooks hooks;
+  std::shared_ptr<AnglePenalty> penalty;
+  if (!cfg.constraints.empty()) {
+    const std::string path = ResolveConfigPath(config_dir, "constraints", cfg.constraints);
+    const ConstraintSet set = ConstraintSet::Build(LoadConstraintConfig(path), *skeleton.skeleton);
+    penalty = std::make_shared<AnglePenalty>(set);
+    // Predicted poses are root-relative without the root: put the root back at the origin.
+    hooks.angle_penalty = [penalty](const torch::Tensor& poses) {
+      auto sizes = poses.sizes().vec();
+      sizes[sizes.size() - 2] = 1;
+      return (*penalty)->forward(torch::cat({torch::zeros(sizes), poses}, -2));
+    };
+    std::printf("angle loss: %d constraints from %s\n", set.num_constraints(), path.c_str());
+  }
   TrainCallbacks cb;
   std::unique_ptr<ProgressBar> bar;
   cb.step = [&](int epoch, double fraction, const std::vector<std::pair<std::string, double>>& terms) {
