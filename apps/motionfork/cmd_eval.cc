@@ -19,6 +19,11 @@
 #include "config/skeleton_config.h"
 #include "dataset/dataset.h"
 #include "eval/baselines.h"
+#include "generator/forecaster.h"
+#include "config/constraint_config.h"
+#include "constraints/checker.h"
+#include "flow/pose_prior.h"
+#include "generator/generator_predictor.h"
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
@@ -45,7 +50,60 @@ struct EvalCommandOptions {
   uint64_t seed = 0;
   std::string fix;
   std::string json;
+  std::string constraints;  // "" = the protocol's shipped set when there is one; "none" = off
+  std::string prior;        // "" = models/prior-<protocol> when shipped; "none" = off
 };
+
+// Plausibility scorers: angle-violation rate (any constraint outside its range in a frame) and
+// prior NLL (nats per pose). Both are optional; their sources are printed in the table header.
+struct Scorers {
+  std::unique_ptr<ConstraintSet> set;
+  std::unique_ptr<AngleChecker> checker;
+  std::unique_ptr<PosePrior> prior;
+  std::vector<FrameScorer> list;
+  std::string described;
+};
+
+void AddScorers(const EvalCommandOptions& o, const ProtocolOptions& p,
+                const std::shared_ptr<const Skeleton>& skeleton, const std::string& config_dir,
+                Scorers* out) {
+  namespace fs = std::filesystem;
+  std::string constraints = o.constraints;
+  if (constraints.empty() && fs::is_regular_file(fs::path(config_dir) / "constraints" / (p.name + ".yaml"))) {
+    constraints = p.name;
+  }
+  if (!constraints.empty() && constraints != "none") {
+    const std::string path = ResolveConfigPath(config_dir, "constraints", constraints);
+    out->set = std::make_unique<ConstraintSet>(ConstraintSet::Build(LoadConstraintConfig(path), *skeleton));
+    out->checker = std::make_unique<AngleChecker>(*out->set);
+    const AngleChecker* checker = out->checker.get();
+    const int C = out->set->num_constraints();
+    out->list.push_back(FrameScorer{"angle_violation_rate", [checker, C](const float* pos, int n, double* scores) {
+      std::vector<AngleStatus> status(static_cast<size_t>(n) * C);
+      checker->Run(pos, n, nullptr, status.data());
+      for (int t = 0; t < n; ++t) {
+        scores[t] = 0;
+        for (int c = 0; c < C; ++c) scores[t] = std::max(scores[t], IsViolation(status[t * C + c]) ? 1.0 : 0.0);
+      }
+    }});
+    out->described += "angles: " + path;
+  }
+  std::string prior = o.prior;
+  const fs::path shipped = fs::path(MOTIONFORK_CONFIG_DIR).parent_path() / "models" / ("prior-" + p.name);
+  if (prior.empty() && fs::is_directory(shipped)) prior = shipped.string();
+  if (!prior.empty() && prior != "none") {
+    out->prior = std::make_unique<PosePrior>(PosePrior::Load(prior));
+    out->prior->CheckSkeleton(*skeleton);
+    const PosePrior* pp = out->prior.get();
+    const double fps = p.fps;
+    out->list.push_back(FrameScorer{"prior_nll", [pp, skeleton, fps](const float* pos, int n, double* scores) {
+      const Motion m(skeleton, fps, std::vector<float>(pos, pos + static_cast<size_t>(n) * skeleton->num_joints() * 3));
+      const std::vector<double> lp = pp->LogProb(m);
+      for (int t = 0; t < n; ++t) scores[t] = -lp[t];
+    }});
+    out->described += std::string(out->described.empty() ? "" : "; ") + "prior: " + prior;
+  }
+}
 
 const char* const kBaselines = "zero-velocity, nearest-neighbours";
 
@@ -105,22 +163,26 @@ void PrintRow(const std::string& label, const Figures& f, bool fixed) {
   std::printf("\n");
 }
 
-// Trained models: the generator's author replaces this with the bundle loader (check the bundle's
-// skeleton and lengths against the protocol, build its Predictor) and returns it from
-// MakePredictor.
-[[noreturn]] void ModelsNotAvailable() {
-  throw std::invalid_argument(
-      "--model: evaluating trained models is not available yet (no "
-      "generator bundle loader in this build); use --baseline " +
-      std::string(kBaselines));
-}
-
 // The predictor a command line asks for. training: the protocol's training clips (for the
 // nearest-neighbour baseline); they outlive the predictor.
 std::unique_ptr<Predictor> MakePredictor(const EvalCommandOptions& o, const ProtocolOptions& p,
                                          const std::shared_ptr<const Skeleton>& skeleton,
                                          const std::vector<const Motion*>& training) {
-  if (!o.model.empty()) ModelsNotAvailable();
+  if (!o.model.empty()) {
+    Forecaster f = Forecaster::Load(o.model);
+    const ModelConfig& mc = f.config();
+    if (!f.skeleton()->SameStructure(*skeleton) || mc.generator.t_his != p.t_his ||
+        mc.generator.t_pred != p.t_pred) {
+      throw std::invalid_argument("--model " + o.model + " was trained for protocol '" + mc.protocol +
+                                  "' (skeleton '" + f.skeleton()->name() + "', t_his " +
+                                  std::to_string(mc.generator.t_his) + ", t_pred " +
+                                  std::to_string(mc.generator.t_pred) + "), not for '" + p.name +
+                                  "' (skeleton '" + skeleton->name() + "', t_his " + std::to_string(p.t_his) +
+                                  ", t_pred " + std::to_string(p.t_pred) + ")");
+    }
+    const std::string name = mc.info.count("config") ? mc.info.at("config") : std::string("model");
+    return std::make_unique<GeneratorPredictor>(std::move(f), name, GeneratorBundleHash(o.model));
+  }
   const std::string name = CanonicalBaseline(o.baseline);
   if (name == "zero-velocity") {
     return std::make_unique<ZeroVelocityPredictor>(skeleton, p.t_his, p.t_pred);
@@ -159,7 +221,7 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
     throw std::invalid_argument("give --data DIR (the protocol's dataset) and/or --clips DIR");
   }
   // Fail before loading anything.
-  if (!o.model.empty()) ModelsNotAvailable();
+  if (!o.model.empty()) Forecaster::Load(o.model);
   if (CanonicalBaseline(o.baseline) == "nearest-neighbours" && o.data.empty()) {
     throw std::invalid_argument(
         "--baseline nearest-neighbours needs --data DIR: its training "
@@ -261,7 +323,10 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
   eval.seed = o.seed;
   eval.fixed_part = fixed_part;
   eval.keep_singleton_sets = protocol.keep_singleton_sets;
-  // Plausibility scorers (angle ranges, flow prior) are added here once those modules land.
+  Scorers scorers;
+  AddScorers(o, protocol, ts.skeleton, ConfigDir(g.config_dir), &scorers);
+  eval.scorers = scorers.list;
+  if (!scorers.described.empty()) std::printf("plausibility figures: %s\n", scorers.described.c_str());
   EvalResult r;
   {
     ProgressBar bar("evaluating " + predictor->name(), !g.quiet);
@@ -376,7 +441,7 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--baseline", o->baseline,
                   "Non-learned predictor: zero-velocity (every sample repeats the last pose) or "
                   "nearest-neighbours (K training futures, stride-5 windows, re-targeted)");
-  cmd->add_option("--model", o->model, "Trained model bundle (not available yet)");
+  cmd->add_option("--model", o->model, "Trained model bundle folder (model.yaml + generator.pt)");
   cmd->add_option("--protocol", o->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
   cmd->add_option("--data", o->data,
@@ -390,6 +455,12 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::ExistingDirectory);
   cmd->add_option("-k,--samples", o->k, "Samples per history (K, >= 2)");
   cmd->add_option("--seed", o->seed, "Seed (window i uses a mix of it and i)");
+  cmd->add_option("--constraints", o->constraints,
+                  "Constraint set for the angle-violation rate (default: the protocol's shipped set; "
+                  "'none' to skip)");
+  cmd->add_option("--prior", o->prior,
+                  "Prior bundle for the prior NLL (default: models/prior-<protocol> when shipped; "
+                  "'none' to skip)");
   cmd->add_option("--fix", o->fix,
                   "Controllable setting: a part of the skeleton's default partition (e.g. legs) "
                   "that every sample shares; reports the APD of the varied and the fixed joints");

@@ -1,5 +1,6 @@
 // motionfork train: train a generator from a model config on a protocol's training split.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "app_common.h"
@@ -7,6 +8,8 @@
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
 #include "constraints/torch/angle_penalty.h"
+#include "flow/flow_module.h"
+#include "flow/pose_prior.h"
 #include "config/model_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
@@ -80,6 +83,36 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
       return (*penalty)->forward(torch::cat({torch::zeros(sizes), poses}, -2));
     };
     std::printf("angle loss: %d constraints from %s\n", set.num_constraints(), path.c_str());
+  }
+  std::shared_ptr<PosePrior> prior;
+  if (!cfg.prior.empty()) {
+    namespace fs = std::filesystem;
+    // Relative prior paths are taken from the source tree's root (where models/ lives) when they
+    // do not exist from the working directory.
+    std::string dir = cfg.prior;
+    const fs::path from_tree = fs::path(config_dir).parent_path() / dir;
+    if (!fs::is_directory(dir) && fs::is_directory(from_tree)) dir = from_tree.string();
+    prior = std::make_shared<PosePrior>(PosePrior::Load(dir));
+    prior->CheckSkeleton(*skeleton.skeleton);
+    for (auto& param : prior->module()->parameters()) param.set_requires_grad(false);
+    std::vector<int64_t> parents;
+    for (int j = 1; j < skeleton.skeleton->num_joints(); ++j) parents.push_back(skeleton.skeleton->parent(j) - 1);
+    // Poses [M, N, 3] (root-relative, no root) -> unit limb directions [M, 3N] -> mean NLL.
+    hooks.prior_nll = [prior, parents](const torch::Tensor& poses) {
+      const int64_t N = poses.size(1);
+      std::vector<int64_t> idx(parents);
+      std::vector<float> from_root(N);
+      for (int64_t n = 0; n < N; ++n) {
+        from_root[n] = idx[n] < 0 ? 1.0f : 0.0f;
+        if (idx[n] < 0) idx[n] = n;
+      }
+      const torch::Tensor par = poses.index_select(1, torch::tensor(idx, torch::kLong)) *
+                                (1 - torch::tensor(from_root).view({N, 1}));
+      const torch::Tensor limbs = poses - par;
+      const torch::Tensor dirs = limbs / limbs.norm(2, -1, true).clamp_min(1e-6);
+      return -prior->module()->log_prob(dirs.reshape({poses.size(0), N * 3})).mean();
+    };
+    std::printf("prior loss: %s\n", dir.c_str());
   }
   TrainCallbacks cb;
   std::unique_ptr<ProgressBar> bar;
