@@ -222,7 +222,7 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
   }
   // Fail before loading anything.
   if (!o.model.empty()) Forecaster::Load(o.model);
-  if (CanonicalBaseline(o.baseline) == "nearest-neighbours" && o.data.empty()) {
+  if (!o.baseline.empty() && CanonicalBaseline(o.baseline) == "nearest-neighbours" && o.data.empty()) {
     throw std::invalid_argument(
         "--baseline nearest-neighbours needs --data DIR: its training "
         "clips are the protocol's train split");
