@@ -228,6 +228,11 @@ bool PoseFlowImpl::AnyParameterRequiresGrad() const {
   return false;
 }
 
+void PoseFlowImpl::Freeze() {
+  for (auto& p : parameters()) p.requires_grad_(false);
+  eval();
+}
+
 torch::Tensor PoseFlowImpl::log_prob(const torch::Tensor& x) const {
   CheckInput(x, "poses");
   if (torch::GradMode::is_enabled() && x.requires_grad() && !AnyParameterRequiresGrad()) {
@@ -260,11 +265,16 @@ int64_t PoseFlowImpl::NumParameters() const {
 
 namespace {
 
-void CheckPositions(const torch::Tensor& positions, const std::vector<int>& parents) {
+void CheckPositions(const torch::Tensor& positions, const std::vector<int>& parents,
+                    bool implicit_root) {
   const int64_t J = static_cast<int64_t>(parents.size());
-  if (positions.dim() < 2 || positions.size(-1) != 3 || positions.size(-2) != J) {
-    throw std::invalid_argument("LimbDirections: expected positions [..., " + std::to_string(J) +
-                                ", 3], got " + c10::str(positions.sizes()));
+  const int64_t stored = implicit_root ? J - 1 : J;
+  if (J < 2 || positions.dim() < 2 || positions.size(-1) != 3 || positions.size(-2) != stored) {
+    throw std::invalid_argument(
+        std::string(implicit_root ? "LimbDirectionsRootRelative" : "LimbDirections") +
+        ": expected positions [..., " + std::to_string(stored) + ", 3] for " + std::to_string(J) +
+        " joints" + (implicit_root ? " (root omitted)" : "") + ", got " +
+        c10::str(positions.sizes()));
   }
   for (int64_t j = 1; j < J; ++j) {
     if (parents[j] < 0 || parents[j] >= j) {
@@ -276,29 +286,38 @@ void CheckPositions(const torch::Tensor& positions, const std::vector<int>& pare
 
 // Tensor ops: any device and dtype, autograd through every op.
 torch::Tensor LimbDirectionsOps(const torch::Tensor& positions, const std::vector<int>& parents,
-                                double eps) {
+                                double eps, bool implicit_root) {
+  torch::Tensor pos = positions;
+  if (implicit_root) {
+    std::vector<int64_t> root_shape = positions.sizes().vec();
+    root_shape[root_shape.size() - 2] = 1;
+    pos = torch::cat({torch::zeros(root_shape, positions.options()), positions}, -2);
+  }
   std::vector<int64_t> child_idx, parent_idx;
   for (size_t j = 1; j < parents.size(); ++j) {
     child_idx.push_back(static_cast<int64_t>(j));
     parent_idx.push_back(parents[j]);
   }
-  const auto opts = torch::TensorOptions().dtype(torch::kInt64).device(positions.device());
-  const torch::Tensor v = positions.index_select(-2, torch::tensor(child_idx, opts)) -
-                          positions.index_select(-2, torch::tensor(parent_idx, opts));
+  const auto opts = torch::TensorOptions().dtype(torch::kInt64).device(pos.device());
+  const torch::Tensor v = pos.index_select(-2, torch::tensor(child_idx, opts)) -
+                          pos.index_select(-2, torch::tensor(parent_idx, opts));
   const torch::Tensor n = (v.square().sum(-1, true) + eps * eps).sqrt();
   return (v / n).flatten(-2);
 }
 
 // CPU float/double: one pass each way. d = v / n with n = sqrt(|v|^2 + eps^2), v = joint - parent;
-// backward: dL/dv = (g - d (d . g)) / n, added to the joint and subtracted from its parent.
+// backward: dL/dv = (g - d (d . g)) / n, added to the joint and subtracted from its parent. With
+// implicit_root the positions omit joint 0, which sits at the origin.
 class LimbDirectionsCpu : public torch::autograd::Function<LimbDirectionsCpu> {
  public:
   static torch::Tensor forward(torch::autograd::AutogradContext* ctx,
                                const torch::Tensor& positions, const std::vector<int>& parents,
-                               double eps) {
+                               double eps, bool implicit_root) {
     const torch::Tensor pos = positions.contiguous();
     const int64_t J = static_cast<int64_t>(parents.size()), L = J - 1;
-    const int64_t B = pos.numel() / (J * 3);
+    const int64_t S = implicit_root ? J - 1 : J;  // joints stored per pose
+    const int64_t shift = implicit_root ? 1 : 0;  // joint j is stored at j - shift
+    const int64_t B = pos.numel() / (S * 3);
     std::vector<int64_t> out_shape(pos.sizes().begin(), pos.sizes().end() - 2);
     out_shape.push_back(3 * L);
     torch::Tensor dirs = torch::empty(out_shape, pos.options());
@@ -308,12 +327,14 @@ class LimbDirectionsCpu : public torch::autograd::Function<LimbDirectionsCpu> {
       scalar_t* d = dirs.data_ptr<scalar_t>();
       scalar_t* r = inv.data_ptr<scalar_t>();
       const scalar_t eps2 = static_cast<scalar_t>(eps * eps);
+      const scalar_t origin[3] = {0, 0, 0};
       at::parallel_for(0, B, 2048, [&](int64_t begin, int64_t end) {
         for (int64_t b = begin; b < end; ++b) {
-          const scalar_t* pb = p + b * J * 3;
+          const scalar_t* pb = p + b * S * 3;
           for (int64_t k = 0; k < L; ++k) {
-            const scalar_t* c = pb + (k + 1) * 3;
-            const scalar_t* q = pb + parents[k + 1] * 3;
+            const int64_t par = parents[k + 1];
+            const scalar_t* c = pb + (k + 1 - shift) * 3;
+            const scalar_t* q = par < shift ? origin : pb + (par - shift) * 3;
             const scalar_t v0 = c[0] - q[0], v1 = c[1] - q[1], v2 = c[2] - q[2];
             const scalar_t rk = 1 / std::sqrt(v0 * v0 + v1 * v1 + v2 * v2 + eps2);
             scalar_t* dk = d + (b * L + k) * 3;
@@ -326,6 +347,7 @@ class LimbDirectionsCpu : public torch::autograd::Function<LimbDirectionsCpu> {
     ctx->save_for_backward({dirs, inv});
     ctx->saved_data["parents"] = std::vector<int64_t>(parents.begin(), parents.end());
     ctx->saved_data["shape"] = pos.sizes().vec();
+    ctx->saved_data["shift"] = shift;
     return dirs;
   }
 
@@ -336,8 +358,9 @@ class LimbDirectionsCpu : public torch::autograd::Function<LimbDirectionsCpu> {
     const torch::Tensor& inv = saved[1];
     const std::vector<int64_t> parents = ctx->saved_data["parents"].toIntVector();
     const std::vector<int64_t> shape = ctx->saved_data["shape"].toIntVector();
+    const int64_t shift = ctx->saved_data["shift"].toInt();
     const torch::Tensor g = grad[0].to(dirs.scalar_type()).contiguous();
-    const int64_t J = static_cast<int64_t>(parents.size()), L = J - 1;
+    const int64_t J = static_cast<int64_t>(parents.size()), L = J - 1, S = J - shift;
     const int64_t B = inv.size(0);
     torch::Tensor out = torch::zeros(shape, dirs.options());
     AT_DISPATCH_FLOATING_TYPES(dirs.scalar_type(), "LimbDirectionsBackward", [&] {
@@ -346,15 +369,17 @@ class LimbDirectionsCpu : public torch::autograd::Function<LimbDirectionsCpu> {
       const scalar_t* gd = g.data_ptr<scalar_t>();
       scalar_t* gp = out.data_ptr<scalar_t>();
       at::parallel_for(0, B, 2048, [&](int64_t begin, int64_t end) {
+        scalar_t sink[3];  // the implicit root's gradient is dropped
         for (int64_t b = begin; b < end; ++b) {
-          scalar_t* gb = gp + b * J * 3;
+          scalar_t* gb = gp + b * S * 3;
           for (int64_t k = 0; k < L; ++k) {
             const scalar_t* dk = d + (b * L + k) * 3;
             const scalar_t* gk = gd + (b * L + k) * 3;
             const scalar_t dot = dk[0] * gk[0] + dk[1] * gk[1] + dk[2] * gk[2];
             const scalar_t rk = r[b * L + k];
-            scalar_t* c = gb + (k + 1) * 3;
-            scalar_t* q = gb + parents[k + 1] * 3;
+            const int64_t par = parents[k + 1];
+            scalar_t* c = gb + (k + 1 - shift) * 3;
+            scalar_t* q = par < shift ? sink : gb + (par - shift) * 3;
             for (int a = 0; a < 3; ++a) {
               const scalar_t gv = (gk[a] - dk[a] * dot) * rk;
               c[a] += gv;
@@ -364,26 +389,36 @@ class LimbDirectionsCpu : public torch::autograd::Function<LimbDirectionsCpu> {
         }
       });
     });
-    return {out, torch::Tensor(), torch::Tensor()};
+    return {out, torch::Tensor(), torch::Tensor(), torch::Tensor()};
   }
 };
+
+torch::Tensor LimbDirectionsImpl(const torch::Tensor& positions, const std::vector<int>& parents,
+                                 double eps, bool implicit_root) {
+  CheckPositions(positions, parents, implicit_root);
+  const auto type = positions.scalar_type();
+  if (positions.is_cpu() && (type == torch::kFloat32 || type == torch::kFloat64)) {
+    return LimbDirectionsCpu::apply(positions, parents, eps, implicit_root);
+  }
+  return LimbDirectionsOps(positions, parents, eps, implicit_root);
+}
 
 }  // namespace
 
 torch::Tensor LimbDirections(const torch::Tensor& positions, const std::vector<int>& parents,
                              double eps) {
-  CheckPositions(positions, parents);
-  const auto type = positions.scalar_type();
-  if (positions.is_cpu() && (type == torch::kFloat32 || type == torch::kFloat64)) {
-    return LimbDirectionsCpu::apply(positions, parents, eps);
-  }
-  return LimbDirectionsOps(positions, parents, eps);
+  return LimbDirectionsImpl(positions, parents, eps, false);
+}
+
+torch::Tensor LimbDirectionsRootRelative(const torch::Tensor& poses,
+                                         const std::vector<int>& parents, double eps) {
+  return LimbDirectionsImpl(poses, parents, eps, true);
 }
 
 torch::Tensor LimbDirectionsReference(const torch::Tensor& positions,
                                       const std::vector<int>& parents, double eps) {
-  CheckPositions(positions, parents);
-  return LimbDirectionsOps(positions, parents, eps);
+  CheckPositions(positions, parents, false);
+  return LimbDirectionsOps(positions, parents, eps, false);
 }
 
 }  // namespace motionfork

@@ -89,6 +89,9 @@ class PoseFlowImpl : public torch::nn::Module {
   std::vector<std::pair<std::string, torch::Tensor>> OrderedParameters() const;
   int64_t NumParameters() const;
   bool AnyParameterRequiresGrad() const;
+  // No parameter requires grad any more, and eval mode: the prior as a fixed loss term (log_prob
+  // then takes the fused path when its input requires grad).
+  void Freeze();
 
   // One forward sweep: z, log-det and each PReLU's mask of negative inputs ([B, D] bool).
   struct Pass {
@@ -115,6 +118,14 @@ TORCH_MODULE(PoseFlow);
 // others go through tensor ops (LimbDirectionsReference).
 torch::Tensor LimbDirections(const torch::Tensor& positions, const std::vector<int>& parents,
                              double eps = 1e-8);
+// The same for root-relative poses that omit the root (the generator's layout): poses
+// [..., J - 1, 3], joint j at index j - 1, the root at the origin. Scoring predicted poses with a
+// frozen prior inside a training step:
+//   prior.module()->Freeze();
+//   nll = -prior.module()->log_prob(LimbDirectionsRootRelative(poses.reshape({-1, J - 1, 3}),
+//                                                              parents)).mean();
+torch::Tensor LimbDirectionsRootRelative(const torch::Tensor& poses,
+                                         const std::vector<int>& parents, double eps = 1e-8);
 torch::Tensor LimbDirectionsReference(const torch::Tensor& positions,
                                       const std::vector<int>& parents, double eps = 1e-8);
 

@@ -107,7 +107,8 @@ TEST_CASE("log-det equals log|det J| of the autograd Jacobian and of central dif
 }
 
 TEST_CASE(
-    "Q is orthogonal to 1e-5 after training; compact WY equals the reflections applied in turn") {
+    "Q is orthogonal to 1e-5 after training, and compact WY equals the reflections applied in "
+    "turn") {
   PinThreads(1);
   PoseFlow flow = MakeFlow(9);
   TrainSteps(flow, 200);
@@ -253,4 +254,30 @@ TEST_CASE("fused CPU LimbDirections equals the tensor-op version, values and gra
     worst = std::max(worst, std::abs(fd - p.grad().view({-1})[i].item<double>()));
   }
   CHECK(worst < 1e-6);
+}
+
+TEST_CASE("LimbDirectionsRootRelative (root omitted, at the origin) equals LimbDirections") {
+  const Motion m = testing::MakeWalkingMotion(12);
+  const std::vector<int>& parents = m.skeleton().parents();
+  const Motion rel = RootRelative(m);
+  const torch::Tensor full =
+      torch::from_blob(const_cast<float*>(rel.positions().data()), {12, 17, 3}, torch::kFloat32)
+          .to(torch::kFloat64);
+  torch::Tensor a = full.clone().requires_grad_(true);
+  torch::Tensor b = full.slice(1, 1, 17).clone().requires_grad_(true);
+  const torch::Tensor da = LimbDirections(a, parents), db = LimbDirectionsRootRelative(b, parents);
+  CHECK(MaxAbs(da.detach() - db.detach()) < 1e-12);
+  const torch::Tensor w = torch::randn({12, 48}, torch::kFloat64);
+  (da * w).sum().backward();
+  (db * w).sum().backward();
+  CHECK(MaxAbs(a.grad().slice(1, 1, 17) - b.grad()) < 1e-12);
+  CHECK_THROWS_WITH(LimbDirectionsRootRelative(a.detach(), parents),
+                    Catch::Contains("root omitted"));
+  // Through the frozen prior, as the generator uses it.
+  PoseFlow flow = MakeFlow(2);
+  flow->Freeze();
+  flow->to(torch::kFloat64);
+  torch::Tensor c = full.slice(1, 1, 17).clone().requires_grad_(true);
+  (-flow->log_prob(LimbDirectionsRootRelative(c, parents)).mean()).backward();
+  CHECK(torch::isfinite(c.grad()).all().item<bool>());
 }

@@ -263,7 +263,7 @@ TEST_CASE("bad input gets a clear error: joint count, NaN, zero-length bone, oth
 }
 
 TEST_CASE(
-    "forward/inverse round-trip through the facade; samples have the requested bone lengths") {
+    "forward/inverse round-trip through the facade, and samples have the requested bone lengths") {
   PinThreads(1);
   const PosePrior prior(testing::MakeHumanoid(), SmallConfig());
   const std::vector<float> d = ToLimbs(testing::MakeWalkingMotion(20)).directions;

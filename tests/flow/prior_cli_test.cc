@@ -190,7 +190,7 @@ TEST_CASE("prior score and sample: outputs, and exit 2 with a clear message for 
 }
 
 TEST_CASE(
-    "prior train on Bandai: bundle and log; refuses to overwrite; Ctrl-C then resume equals one "
+    "prior train on Bandai: bundle and log, refuses to overwrite, Ctrl-C then resume equals one "
     "run") {
   if (const std::string why = MissingBinary(); !why.empty()) {
     WARN(why);
