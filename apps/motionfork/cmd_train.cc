@@ -94,23 +94,11 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     if (!fs::is_directory(dir) && fs::is_directory(from_tree)) dir = from_tree.string();
     prior = std::make_shared<PosePrior>(PosePrior::Load(dir));
     prior->CheckSkeleton(*skeleton.skeleton);
-    for (auto& param : prior->module()->parameters()) param.set_requires_grad(false);
-    std::vector<int64_t> parents;
-    for (int j = 1; j < skeleton.skeleton->num_joints(); ++j) parents.push_back(skeleton.skeleton->parent(j) - 1);
-    // Poses [M, N, 3] (root-relative, no root) -> unit limb directions [M, 3N] -> mean NLL.
+    prior->module()->Freeze();
+    const std::vector<int> parents = skeleton.skeleton->parents();
+    // Poses [M, N, 3] (root-relative, no root) -> unit limb directions -> mean NLL.
     hooks.prior_nll = [prior, parents](const torch::Tensor& poses) {
-      const int64_t N = poses.size(1);
-      std::vector<int64_t> idx(parents);
-      std::vector<float> from_root(N);
-      for (int64_t n = 0; n < N; ++n) {
-        from_root[n] = idx[n] < 0 ? 1.0f : 0.0f;
-        if (idx[n] < 0) idx[n] = n;
-      }
-      const torch::Tensor par = poses.index_select(1, torch::tensor(idx, torch::kLong)) *
-                                (1 - torch::tensor(from_root).view({N, 1}));
-      const torch::Tensor limbs = poses - par;
-      const torch::Tensor dirs = limbs / limbs.norm(2, -1, true).clamp_min(1e-6);
-      return -prior->module()->log_prob(dirs.reshape({poses.size(0), N * 3})).mean();
+      return -prior->module()->log_prob(LimbDirectionsRootRelative(poses, parents)).mean();
     };
     std::printf("prior loss: %s\n", dir.c_str());
   }
