@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
@@ -95,15 +96,7 @@ void RunFit(const FitCommandOptions& o, const GlobalOptions& g) {
   // Bind before the (long) dataset load, so a bad definition fails at once.
   const ConstraintSet set = ConstraintSet::Build(spec, *skeleton.skeleton, build_options);
 
-  DatasetLoadOptions load;
-  load.cache_dir = CacheDir(g.cache_dir);
-  load.split_file = o.split_file;
-  Dataset ds;
-  {
-    ProgressBar bar("loading " + protocol.name, !g.quiet);
-    load.progress = [&bar](const LoadProgress& p) { bar.Update(p.fraction, p.detail); };
-    ds = LoadDataset(protocol, skeleton, o.data, load);
-  }
+  const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   const std::vector<int> train = ds.ClipIndices(Split::kTrain);
   const std::vector<int> test = ds.ClipIndices(Split::kTest);
   if (train.empty()) {

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
@@ -40,14 +41,7 @@ Dataset LoadWithProgress(const std::string& protocol_name, const std::string& da
       LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", protocol_name));
   const SkeletonConfig skeleton =
       LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
-  DatasetLoadOptions load;
-  load.cache_dir = CacheDir(g.cache_dir);
-  load.split_file = split_file;
-  ProgressBar bar("loading " + protocol.name, !g.quiet);
-  load.progress = [&bar](const LoadProgress& p) { bar.Update(p.fraction, p.detail); };
-  Dataset ds = LoadDataset(protocol, skeleton, data, load);
-  bar.Finish();
-  return ds;
+  return LoadDatasetWithProgress(protocol, skeleton, data, split_file, g);
 }
 
 void RunStats(const StatsOptions& o, const GlobalOptions& g) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app_common.h"
+#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
@@ -264,14 +265,7 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
   // The dataset: test clips (unless --clips) and training clips.
   auto start = Clock::now();
   Dataset ds;
-  if (!o.data.empty()) {
-    DatasetLoadOptions load;
-    load.cache_dir = cache_dir;
-    load.split_file = o.split_file;
-    ProgressBar bar("loading " + protocol.name, !g.quiet);
-    load.progress = [&bar](const LoadProgress& p) { bar.Update(p.fraction, p.detail); };
-    ds = LoadDataset(protocol, skeleton, o.data, load);
-  }
+  if (!o.data.empty()) ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   ClipFolder folder;
   std::vector<const Clip*> test_clips;
   std::string test_source;

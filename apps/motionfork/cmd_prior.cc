@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "app_common.h"
+#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/flow_config.h"
@@ -108,15 +109,7 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
       LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", o.protocol));
   const SkeletonConfig skeleton =
       LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
-  DatasetLoadOptions load;
-  load.cache_dir = CacheDir(g.cache_dir);
-  load.split_file = o.split_file;
-  Dataset ds;
-  {
-    ProgressBar bar("loading " + protocol.name, !g.quiet);
-    load.progress = [&bar](const LoadProgress& p) { bar.Update(p.fraction, p.detail); };
-    ds = LoadDataset(protocol, skeleton, o.data, load);
-  }
+  const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   const PriorData data = MakePriorData(ds, config.training);
 
   PosePrior prior(skeleton.skeleton, config);

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
@@ -38,19 +39,11 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   }
   const ProtocolOptions protocol = LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", cfg.protocol));
   const SkeletonConfig skeleton = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
-  DatasetLoadOptions load;
-  load.cache_dir = CacheDir(g.cache_dir);
-  load.split_file = o.split_file;
-  Dataset ds;
-  {
-    ProgressBar bar("loading " + protocol.name, !g.quiet);
-    load.progress = [&bar](const LoadProgress& p) { bar.Update(p.fraction, p.detail); };
-    ds = LoadDataset(protocol, skeleton, o.data, load);
-  }
+  const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   TrainingWindows data;
   {
     ProgressBar bar("pseudo multimodal futures", !g.quiet);
-    data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, load.cache_dir,
+    data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, CacheDir(g.cache_dir),
                                 [&bar](double f) { bar.Update(f); });
   }
   size_t with_mm = 0;
