@@ -1,6 +1,6 @@
 // Benchmark: the pose prior (GSPS flow on limb directions, 48 numbers, 3 layers), one thread.
 //
-//   bench_flow [--threads N] [--reps N]
+//   bench_flow [--threads N] [--reps N] [--glibc-default]
 //
 // Prints medians of:
 //   1. log_prob of 4,096 poses (inference): Q built once per call as a 48 x 48 matrix and applied
@@ -85,16 +85,26 @@ torch::Tensor OriginalLogProb(const PoseFlow& flow, const torch::Tensor& x) {
 
 int main(int argc, char** argv) {
   int threads = 1, reps = 200;
+  bool glibc_default = false;
   for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--glibc-default")) glibc_default = true;
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::atoi(argv[++i]);
   }
   PinThreads(threads);
+  // As the prior commands do (apps/motionfork/cmd_prior.cc): without it glibc returns every freed
+  // tensor to the kernel and each new one pays page faults (log_prob 5.6 ms instead of 1.7 ms).
+  // --glibc-default measures that.
+  if (!glibc_default) {
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  }
   const int D = 48;
   PoseFlow flow(D, FlowOptions{});
   flow->Initialize(0);
-  std::printf("prior: 3 layers, 48 reflections each, %lld parameters, %d thread(s)\n",
-              static_cast<long long>(flow->NumParameters()), threads);
+  std::printf("prior: 3 layers, 48 reflections each, %lld parameters, %d thread(s), %s\n",
+              static_cast<long long>(flow->NumParameters()), threads,
+              glibc_default ? "glibc's default malloc trimming" : "freed memory kept (mallopt)");
   torch::manual_seed(0);
   torch::Tensor x = torch::randn({4096, 16, 3});
   x = (x / x.norm(2, -1, true)).reshape({4096, D});

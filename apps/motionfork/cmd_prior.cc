@@ -1,4 +1,5 @@
 // motionfork prior train|score|sample: the pose prior (GSPS normalizing flow on limb directions).
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -11,7 +12,6 @@
 #include <optional>
 
 #include "app_common.h"
-#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/flow_config.h"
@@ -19,6 +19,7 @@
 #include "config/skeleton_config.h"
 #include "core/error.h"
 #include "dataset/dataset.h"
+#include "dataset_loading.h"
 #include "flow/pose_prior.h"
 #include "flow/prior_data.h"
 #include "flow/trainer.h"
@@ -65,6 +66,15 @@ struct SampleOptions {
   int steps = 1000;
 };
 
+// glibc returns freed tensor-sized blocks (hundreds of KB) to the kernel and maps them again on
+// the next allocation, so every new tensor pays page faults: log_prob of 4,096 poses takes 5.6 ms
+// instead of 1.7 ms. Keep freed memory in the process (this process only; apps may decide this,
+// libraries may not).
+void KeepFreedMemory() {
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+}
+
 std::string Fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), format, v);
@@ -86,6 +96,7 @@ std::string JsonEscape(const std::string& s) {
 // train
 
 void RunTrain(const TrainOptions& o, GlobalOptions& g) {
+  KeepFreedMemory();
   const std::string config_dir = ConfigDir(g.config_dir);
   const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
   const PriorConfig config = LoadFlowConfig(config_path);
@@ -260,6 +271,7 @@ Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
 }
 
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
+  KeepFreedMemory();
   const PosePrior prior = PosePrior::Load(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
   const LoadedMotion lm = LoadMotionInput(o.file, o.input, config_dir);
@@ -325,6 +337,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
 // sample
 
 void RunSample(const SampleOptions& o, const GlobalOptions& g) {
+  KeepFreedMemory();
   FormatOfPath(o.output);  // fail on an unsupported extension before any work
   const PosePrior prior = PosePrior::Load(o.model);
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;
