@@ -57,6 +57,28 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
   return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
 }
 
+std::vector<float> Forecaster::PredictWorld(const float* history, const ForecastRequest& request) const {
+  const GeneratorOptions& g = impl_->config.generator;
+  const int J = g.num_nodes + 1;
+  std::vector<float> rel(static_cast<size_t>(g.t_his) * (J - 1) * 3);
+  for (int t = 0; t < g.t_his; ++t) {
+    const float* fr = history + static_cast<size_t>(t) * J * 3;
+    for (int j = 1; j < J; ++j)
+      for (int a = 0; a < 3; ++a) rel[(static_cast<size_t>(t) * (J - 1) + j - 1) * 3 + a] = fr[3 * j + a] - fr[a];
+  }
+  const std::vector<float> y = PredictRootRelative(rel, 1, request);
+  const float* root = history + static_cast<size_t>(g.t_his - 1) * J * 3;
+  std::vector<float> futures(static_cast<size_t>(request.k) * g.t_pred * J * 3);
+  for (size_t s = 0; s < static_cast<size_t>(request.k) * g.t_pred; ++s) {
+    float* out = &futures[s * J * 3];
+    const float* in = &y[s * (J - 1) * 3];
+    for (int a = 0; a < 3; ++a) out[a] = root[a];
+    for (int j = 1; j < J; ++j)
+      for (int a = 0; a < 3; ++a) out[3 * j + a] = root[a] + in[3 * (j - 1) + a];
+  }
+  return futures;
+}
+
 Forecast Forecaster::Predict(const Motion& history, int start, const ForecastRequest& request) const {
   const GeneratorOptions& g = impl_->config.generator;
   const Skeleton& want = *impl_->skeleton;
@@ -81,24 +103,11 @@ Forecast Forecaster::Predict(const Motion& history, int start, const ForecastReq
   f.t_pred = g.t_pred;
   f.joints = J;
   f.fps = history.fps();
-  std::vector<float> rel;
-  rel.reserve(static_cast<size_t>(g.t_his) * (J - 1) * 3);
   for (int t = start; t < start + g.t_his; ++t) {
     const float* fr = history.frame(t);
     f.history.insert(f.history.end(), fr, fr + J * 3);
-    for (int j = 1; j < J; ++j)
-      for (int a = 0; a < 3; ++a) rel.push_back(fr[3 * j + a] - fr[a]);
   }
-  const std::vector<float> y = PredictRootRelative(rel, 1, request);
-  const float* root = history.at(start + g.t_his - 1, 0);
-  f.futures.resize(static_cast<size_t>(request.k) * g.t_pred * J * 3);
-  for (size_t s = 0; s < static_cast<size_t>(request.k) * g.t_pred; ++s) {
-    float* out = &f.futures[s * J * 3];
-    const float* in = &y[s * (J - 1) * 3];
-    for (int a = 0; a < 3; ++a) out[a] = root[a];
-    for (int j = 1; j < J; ++j)
-      for (int a = 0; a < 3; ++a) out[3 * j + a] = root[a] + in[3 * (j - 1) + a];
-  }
+  f.futures = PredictWorld(f.history.data(), request);
   return f;
 }
 

@@ -53,6 +53,11 @@ class Forecaster {
   std::vector<float> PredictRootRelative(const std::vector<float>& histories, int num_histories,
                                          const ForecastRequest& request) const;
 
+  // One history in world coordinates, [t_his, J, 3] metres -> futures [K, t_pred, J, 3] metres,
+  // the root held at the history's last root position. No skeleton or frame-rate checks: callers
+  // (Predict, the evaluation's Predictor) have done them.
+  std::vector<float> PredictWorld(const float* history, const ForecastRequest& request) const;
+
   // Saves a bundle (model.yaml + generator.pt) from a trained network; used by training.
   struct Impl;
 
