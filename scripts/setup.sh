@@ -16,9 +16,10 @@ cd "$(dirname "$0")/.."
 #   catch2              unit tests (Catch2 v2)
 #   libcli11-dev        command-line parsing for the motionfork command
 #   libarchive-dev      reads datasets straight out of .tar.xz/.zip archives, no unpacking
+#   nlohmann-json3-dev  reads and writes prediction descriptions (JSON) without a hand-written parser
 #   python3 python3-numpy   tools/videopose3d_to_motionfork.py (Human3.6M / HumanEva-I npz)
 PACKAGES=(build-essential cmake ccache pkg-config libtorch-dev libopenblas-dev libeigen3-dev
-          libglm-dev libyaml-cpp-dev catch2 libcli11-dev libarchive-dev python3 python3-numpy)
+          libglm-dev libyaml-cpp-dev catch2 libcli11-dev libarchive-dev nlohmann-json3-dev python3 python3-numpy)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

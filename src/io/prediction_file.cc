@@ -1,0 +1,176 @@
+#include "io/prediction_file.h"
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "io/file_util.h"
+#include "io/npy.h"
+
+namespace motionfork {
+namespace {
+
+using nlohmann::json;
+
+std::string StripExtension(const std::string& path) {
+  for (const char* ext : {".npy", ".json"}) {
+    const std::string e(ext);
+    if (path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0) {
+      return path.substr(0, path.size() - e.size());
+    }
+  }
+  return path;
+}
+
+json ValidityJson(const SampleValidity& v) {
+  json j = {{"valid", v.valid}, {"violating_frames", v.violating_frames}};
+  // JSON has no NaN: a missing figure is null.
+  j["prior_nll"] = v.prior_nll && std::isfinite(*v.prior_nll) ? json(*v.prior_nll) : json(nullptr);
+  return j;
+}
+
+// Typed access with an error naming the file and the key.
+template <typename T>
+T Get(const json& j, const std::string& key, const std::string& file) {
+  if (!j.contains(key)) throw FormatError(FormatMessage(file, "", "missing key '" + key + "'"));
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception&) {
+    throw FormatError(FormatMessage(file, "key '" + key + "'", "unexpected value " + j.at(key).dump()));
+  }
+}
+
+SampleValidity ValidityFromJson(const json& j, const std::string& file) {
+  SampleValidity v;
+  v.valid = Get<bool>(j, "valid", file);
+  v.violating_frames = Get<int>(j, "violating_frames", file);
+  if (j.contains("prior_nll") && !j.at("prior_nll").is_null()) v.prior_nll = Get<double>(j, "prior_nll", file);
+  return v;
+}
+
+}  // namespace
+
+std::string WritePrediction(const std::string& out, const Prediction& p) {
+  if (!p.skeleton) throw std::invalid_argument("WritePrediction: the prediction has no skeleton");
+  const int T = p.frames(), J = p.joints();
+  const size_t expected = static_cast<size_t>(p.k) * T * J * 3;
+  if (p.positions.size() != expected) {
+    throw std::invalid_argument("WritePrediction: expected " + std::to_string(expected) + " positions ([" +
+                                std::to_string(p.k) + ", " + std::to_string(T) + ", " + std::to_string(J) +
+                                ", 3]), got " + std::to_string(p.positions.size()));
+  }
+  if (!p.samples.empty() && static_cast<int>(p.samples.size()) != p.k) {
+    throw std::invalid_argument("WritePrediction: expected " + std::to_string(p.k) + " sample entries, got " +
+                                std::to_string(p.samples.size()));
+  }
+  const std::string base = StripExtension(out);
+  const Skeleton& s = *p.skeleton;
+  json j;
+  j["model"] = p.model;
+  j["protocol"] = p.protocol;
+  j["history"] = p.history;
+  j["start_frame"] = p.start_frame;
+  j["k"] = p.k;
+  j["seed"] = p.seed;
+  j["fps"] = p.fps;
+  j["t_his"] = p.t_his;
+  j["t_pred"] = p.t_pred;
+  j["skeleton"] = s.name();
+  j["joints"] = s.joint_names();
+  j["parents"] = s.parents();
+  json pairs = json::array();
+  for (const auto& [l, r] : s.left_right_pairs()) pairs.push_back({l, r});
+  j["left_right"] = pairs;
+  json parts = json::array();
+  if (!s.partitions().empty()) {
+    for (const BodyPart& part : s.GetPartition().parts) parts.push_back({{"name", part.name}, {"joints", part.joints}});
+  }
+  j["parts"] = parts;
+  j["fixed_parts"] = p.fixed_parts;
+  j["array"] = std::filesystem::path(base + ".npy").filename().string();
+  j["shape"] = {p.k, T, J, 3};
+  if (p.history_validity) j["history_validity"] = ValidityJson(*p.history_validity);
+  json samples = json::array();
+  for (const SampleValidity& v : p.samples) samples.push_back(ValidityJson(v));
+  j["samples"] = samples;
+
+  NpyArray arr;
+  arr.shape = {p.k, T, J, 3};
+  arr.data = p.positions;
+  WriteNpy(base + ".npy", arr);
+  WriteFileAtomically(base + ".json", j.dump(2) + "\n");
+  return base;
+}
+
+Prediction ReadPrediction(const std::string& path) {
+  const std::string base = StripExtension(path);
+  const std::string json_path = base + ".json";
+  if (!std::filesystem::exists(json_path)) {
+    throw FormatError(FormatMessage(json_path, "", "prediction description not found (written by 'motionfork predict' beside the .npy)"));
+  }
+  json j;
+  try {
+    j = json::parse(ReadFileBytes(json_path));
+  } catch (const json::parse_error& e) {
+    throw FormatError(FormatMessage(json_path, "byte " + std::to_string(e.byte), "invalid JSON"));
+  }
+  if (!j.is_object()) throw FormatError(FormatMessage(json_path, "", "expected a JSON object"));
+  Prediction p;
+  p.model = j.value("model", "");
+  p.protocol = j.value("protocol", "");
+  p.history = j.value("history", "");
+  p.start_frame = j.value("start_frame", 0);
+  p.seed = j.value("seed", uint64_t{0});
+  p.k = Get<int>(j, "k", json_path);
+  p.fps = Get<double>(j, "fps", json_path);
+  p.t_his = Get<int>(j, "t_his", json_path);
+  p.t_pred = Get<int>(j, "t_pred", json_path);
+  if (p.k < 1 || p.t_his < 1 || p.t_pred < 0 || !(p.fps > 0)) {
+    throw FormatError(FormatMessage(json_path, "", "expected k >= 1, t_his >= 1, t_pred >= 0, fps > 0"));
+  }
+  const auto names = Get<std::vector<std::string>>(j, "joints", json_path);
+  const auto parents = Get<std::vector<int>>(j, "parents", json_path);
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& pr : j.value("left_right", json::array())) {
+    const auto v = pr.get<std::vector<int>>();
+    if (v.size() != 2) throw FormatError(FormatMessage(json_path, "key 'left_right'", "expected [left, right] pairs"));
+    pairs.emplace_back(v[0], v[1]);
+  }
+  std::vector<Partition> partitions;
+  if (j.contains("parts") && !j["parts"].empty()) {
+    Partition part{"default", {}};
+    for (const auto& pj : j["parts"]) part.parts.push_back({Get<std::string>(pj, "name", json_path),
+                                                            Get<std::vector<int>>(pj, "joints", json_path)});
+    partitions.push_back(part);
+  }
+  try {
+    p.skeleton = std::make_shared<Skeleton>(
+        Skeleton::FromParents(j.value("skeleton", std::string("prediction")), names, parents, pairs, partitions));
+  } catch (const std::invalid_argument& e) {
+    throw FormatError(FormatMessage(json_path, "skeleton", e.what()));
+  }
+  p.fixed_parts = j.value("fixed_parts", std::vector<std::string>{});
+  if (j.contains("history_validity")) p.history_validity = ValidityFromJson(j["history_validity"], json_path);
+  for (const auto& sj : j.value("samples", json::array())) p.samples.push_back(ValidityFromJson(sj, json_path));
+  if (!p.samples.empty() && static_cast<int>(p.samples.size()) != p.k) {
+    throw FormatError(FormatMessage(json_path, "key 'samples'", "expected " + std::to_string(p.k) + " entries, found " +
+                                                                  std::to_string(p.samples.size())));
+  }
+
+  const std::string array_name = j.value("array", std::filesystem::path(base + ".npy").filename().string());
+  const std::string npy_path = (std::filesystem::path(json_path).parent_path() / array_name).string();
+  NpyArray arr = ReadNpy(npy_path);
+  const std::vector<int64_t> want = {p.k, p.frames(), static_cast<int64_t>(names.size()), 3};
+  if (arr.shape != want) {
+    std::string found;
+    for (size_t i = 0; i < arr.shape.size(); ++i) found += (i ? ", " : "") + std::to_string(arr.shape[i]);
+    throw FormatError(FormatMessage(npy_path, "", "expected shape [" + std::to_string(want[0]) + ", " +
+                                                      std::to_string(want[1]) + ", " + std::to_string(want[2]) +
+                                                      ", 3] (from " + json_path + "), found [" + found + "]"));
+  }
+  p.positions = std::move(arr.data);
+  return p;
+}
+
+}  // namespace motionfork

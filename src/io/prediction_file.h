@@ -1,0 +1,52 @@
+// A prediction on disk: what `motionfork predict -o OUT` writes and `render` / `export` read.
+//
+//   OUT.npy   float32 [K, T, J, 3], metres: every sample is the history (t_his frames) followed by
+//             its future (t_pred frames), T = t_his + t_pred.
+//   OUT.json  the description: model, protocol, history file, start frame, K, seed, fps, t_his,
+//             t_pred, the skeleton (joint names, parent indices, left/right pairs, body parts in
+//             prediction order), the fixed parts, the array's file name and shape, and one entry per
+//             sample with its validity (angle ranges) and mean prior NLL when the bundle has them.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/skeleton.h"
+
+namespace motionfork {
+
+// Per-sample plausibility figures over the sample's future frames.
+struct SampleValidity {
+  bool valid = true;                // no future frame violates an angle range
+  int violating_frames = 0;         // future frames with at least one violation
+  std::optional<double> prior_nll;  // mean over future frames of the pose prior's NLL
+};
+
+struct Prediction {
+  std::string model, protocol, history;
+  int start_frame = 0, k = 0, t_his = 0, t_pred = 0;
+  uint64_t seed = 0;
+  double fps = 0;
+  std::shared_ptr<const Skeleton> skeleton;  // names, parents, left/right pairs, parts ("default")
+  std::vector<std::string> fixed_parts;
+  std::vector<float> positions;        // [K, t_his + t_pred, J, 3]
+  std::vector<SampleValidity> samples;  // K entries, or empty when validity was not computed
+  std::optional<SampleValidity> history_validity;  // the same figures for the history frames
+
+  int frames() const { return t_his + t_pred; }
+  int joints() const { return skeleton ? skeleton->num_joints() : 0; }
+  // Sample k as a flat [T, J, 3] slice.
+  const float* sample(int k) const { return positions.data() + static_cast<size_t>(k) * frames() * joints() * 3; }
+};
+
+// Writes OUT.json and OUT.npy (OUT given with or without ".npy"/".json"); all-or-nothing per file.
+// Returns the base path (without extension).
+std::string WritePrediction(const std::string& out, const Prediction& p);
+
+// Reads a prediction from its .json or .npy path (the other file is found beside it). Throws
+// FormatError naming the file and the key or shape that is wrong.
+Prediction ReadPrediction(const std::string& path);
+
+}  // namespace motionfork
