@@ -37,10 +37,9 @@ Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options)
   throw std::logic_error("unreachable");
 }
 
-void WriteMotionFile(const std::string& path, const Motion& motion) {
+void WriteMotionFile(const std::string& path, const Motion& motion, const BvhWriteOptions& bvh) {
   switch (FormatOfPath(path)) {
-    case MotionFormat::kBvh:
-      throw std::invalid_argument("'" + path + "': writing BVH is not supported yet; write .npy or .csv");
+    case MotionFormat::kBvh: return WriteBvh(path, motion, bvh);
     case MotionFormat::kNpy: return WriteNpyMotion(path, motion);
     case MotionFormat::kCsv: return WriteCsvMotion(path, motion);
   }

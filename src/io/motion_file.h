@@ -1,5 +1,5 @@
 // Reading and writing a motion file of any supported format, chosen by extension:
-// .bvh (read), .npy and .csv (read and write).
+// .bvh, .npy and .csv (read and write).
 #pragma once
 
 #include <memory>
@@ -7,6 +7,7 @@
 
 #include "core/motion.h"
 #include "io/bvh.h"
+#include "io/bvh_writer.h"
 
 namespace motionfork {
 
@@ -28,7 +29,10 @@ struct MotionReadOptions {
 
 Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options = {});
 
-// All-or-nothing write. BVH output is not supported yet (throws std::invalid_argument).
-void WriteMotionFile(const std::string& path, const Motion& motion);
+// All-or-nothing write. BVH: joint rotations fitted to the positions (io/bvh_writer.h), which
+// needs a skeleton with parents; `bvh` sets its unit (centimetres by default, as ReadMotionFile
+// reads), rotation order and fit.
+void WriteMotionFile(const std::string& path, const Motion& motion,
+                     const BvhWriteOptions& bvh = {});
 
 }  // namespace motionfork
