@@ -1,0 +1,237 @@
+// motionfork::Model (include/motionfork/motionfork.h) on top of the Forecaster, the angle
+// checker and the motion readers: this file only adapts types and finds configs.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+
+#include "config/config_paths.h"
+#include "config/constraint_config.h"
+#include "config/skeleton_config.h"
+#include "constraints/checker.h"
+#include "constraints/constraint_set.h"
+#include "core/error.h"
+#include "core/resample.h"
+#include "generator/forecaster.h"
+#include "io/motion_file.h"
+#include "motionfork/motionfork.h"
+#include "torch_util/threads.h"
+
+namespace motionfork {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The configs folder: the option or $MOTIONFORK_CONFIG_DIR when set (must exist), else the
+// installed configs, else the source tree's; "" when none exists.
+std::string FindConfigDir(const std::string& given) {
+  std::string chosen = given, what = "LoadOptions::config_dir";
+  if (chosen.empty()) {
+    if (const char* env = std::getenv("MOTIONFORK_CONFIG_DIR"); env && *env) {
+      chosen = env;
+      what = "$MOTIONFORK_CONFIG_DIR";
+    }
+  }
+  if (!chosen.empty()) {
+    if (!fs::is_directory(chosen)) {
+      throw std::invalid_argument(what +
+                                  ": expected the configs folder (holding constraints/, "
+                                  "skeletons/, ...), got '" +
+                                  chosen + "', which is not a folder");
+    }
+    return chosen;
+  }
+  for (const char* dir : {MOTIONFORK_INSTALLED_CONFIG_DIR, MOTIONFORK_SOURCE_CONFIG_DIR}) {
+    if (*dir && fs::is_directory(dir)) return dir;
+  }
+  return "";
+}
+
+// The constraint config file for a bundle, or "" for none: the option (must resolve), else the
+// bundle's own (DIR/constraints.yaml, copied there by training), else the shipped set named like
+// its protocol when there is one.
+std::string FindConstraintFile(const std::string& option, const std::string& protocol,
+                               const std::string& config_dir, const std::string& bundle_dir) {
+  if (option == "none") return "";
+  if (option.empty()) {
+    const fs::path own = fs::path(bundle_dir) / "constraints.yaml";
+    if (fs::is_regular_file(own)) return own.string();
+    const fs::path shipped = fs::path(config_dir) / "constraints" / (protocol + ".yaml");
+    return !config_dir.empty() && fs::is_regular_file(shipped) ? shipped.string() : "";
+  }
+  if (config_dir.empty() && !fs::is_regular_file(option)) {
+    throw FormatError("LoadOptions::constraints '" + option +
+                      "': not a file, and no configs folder was found to look it up by name; set "
+                      "$MOTIONFORK_CONFIG_DIR or LoadOptions::config_dir");
+  }
+  return ResolveConfigPath(config_dir, "constraints", option);
+}
+
+SampleCheck ToSampleCheck(const ConstraintSet& set, const CheckResult& r) {
+  SampleCheck out;
+  std::vector<bool> violated(r.num_constraints, false);
+  for (int t = 0; t < r.num_frames; ++t) {
+    bool outside = false, undefined = false;
+    for (int c = 0; c < r.num_constraints; ++c) {
+      const AngleStatus s = r.at(t, c);
+      if (IsViolation(s)) outside = violated[c] = true;
+      if (s == AngleStatus::kDegenerate) undefined = true;
+    }
+    if (outside) out.violating_frames.push_back(t);
+    if (undefined) out.undefined_frames.push_back(t);
+  }
+  for (int c = 0; c < r.num_constraints; ++c) {
+    if (violated[c]) out.violated_constraints.push_back(set.constraint(c).name);
+  }
+  out.valid = out.violating_frames.empty() && out.undefined_frames.empty();
+  return out;
+}
+
+}  // namespace
+
+struct Model::Impl {
+  explicit Impl(Forecaster f) : forecaster(std::move(f)) {}
+
+  Forecaster forecaster;
+  std::vector<Part> parts;
+  std::string config_dir, constraint_name, constraint_file;
+  std::optional<ConstraintSet> constraints;
+
+  const Skeleton& skeleton() const { return *forecaster.skeleton(); }
+
+  // positions: [T, J, 3] on the model's joints as a Motion (checks the size and finiteness,
+  // naming the frame and joint of a bad value).
+  Motion ToMotion(const std::vector<float>& positions, const char* who) const {
+    const size_t frame = static_cast<size_t>(skeleton().num_joints()) * 3;
+    if (positions.empty() || positions.size() % frame != 0) {
+      throw std::invalid_argument(
+          std::string(who) + ": expected [T, " + std::to_string(skeleton().num_joints()) +
+          ", 3] positions, a non-zero multiple of " + std::to_string(frame) + " values, got " +
+          std::to_string(positions.size()) + " values");
+    }
+    try {
+      return Motion(forecaster.skeleton(), forecaster.config().fps, positions);
+    } catch (const std::invalid_argument& e) {  // a NaN/Inf value: name it as the caller's
+      std::string what = e.what();
+      if (what.rfind("Motion: ", 0) == 0) what = what.substr(8);
+      throw std::invalid_argument(std::string(who) + ": " + what);
+    }
+  }
+
+  SampleCheck CheckFrames(const Motion& motion) const {
+    if (!constraints) {
+      throw std::logic_error(
+          "Check: the model has no constraint set (its bundle holds no constraints.yaml, none is "
+          "shipped for its protocol '" +
+          forecaster.config().protocol +
+          "', or LoadOptions::constraints was \"none\"); name one in LoadOptions::constraints");
+    }
+    return ToSampleCheck(*constraints, motionfork::Check(*constraints, motion));
+  }
+};
+
+Model::Model(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Model::~Model() = default;
+Model::Model(Model&&) noexcept = default;
+Model& Model::operator=(Model&&) noexcept = default;
+
+Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
+  if (options.threads < 0) {
+    throw std::invalid_argument("LoadOptions::threads: expected >= 0 (0 = leave as is), got " +
+                                std::to_string(options.threads));
+  }
+  if (options.threads > 0) PinThreads(options.threads);
+  auto impl = std::make_unique<Impl>(Forecaster::Load(bundle_dir));
+  const Skeleton& skeleton = impl->skeleton();
+  const PartPlan& plan = impl->forecaster.parts();
+  for (int p = 0; p < plan.num_parts(); ++p) {
+    Part part{plan.names[p], {}};
+    for (int64_t node : plan.nodes[p]) part.joints.push_back(skeleton.joint_name(node + 1));
+    impl->parts.push_back(std::move(part));
+  }
+  impl->config_dir = FindConfigDir(options.config_dir);
+  impl->constraint_file = FindConstraintFile(
+      options.constraints, impl->forecaster.config().protocol, impl->config_dir, bundle_dir);
+  if (!impl->constraint_file.empty()) {
+    impl->constraints = ConstraintSet::Build(LoadConstraintConfig(impl->constraint_file), skeleton);
+    impl->constraint_name = impl->constraints->name();
+  }
+  return Model(std::move(impl));
+}
+
+const std::vector<std::string>& Model::joint_names() const {
+  return impl_->skeleton().joint_names();
+}
+const std::vector<int>& Model::parents() const { return impl_->skeleton().parents(); }
+const std::vector<std::pair<int, int>>& Model::left_right_pairs() const {
+  return impl_->skeleton().left_right_pairs();
+}
+const std::vector<Part>& Model::parts() const { return impl_->parts; }
+int Model::history_frames() const { return impl_->forecaster.config().generator.t_his; }
+int Model::future_frames() const { return impl_->forecaster.config().generator.t_pred; }
+double Model::fps() const { return impl_->forecaster.config().fps; }
+const std::string& Model::protocol() const { return impl_->forecaster.config().protocol; }
+const std::string& Model::constraint_set() const { return impl_->constraint_name; }
+const std::string& Model::constraint_file() const { return impl_->constraint_file; }
+const std::string& Model::config_dir() const { return impl_->config_dir; }
+
+Futures Model::Predict(const std::vector<float>& history, const PredictOptions& options) const {
+  const Motion motion = impl_->ToMotion(history, "Predict: history");
+  if (motion.num_frames() < history_frames()) {
+    throw std::invalid_argument(
+        "Predict: expected a history of at least " + std::to_string(history_frames()) +
+        " frames (" + std::to_string(history_frames() / fps()) + " s at " + std::to_string(fps()) +
+        " Hz), got " + std::to_string(motion.num_frames()));
+  }
+  ForecastRequest request;
+  request.k = options.k;
+  request.seed = options.seed;
+  request.fixed_parts = options.fixed_parts;
+  Forecast f = impl_->forecaster.Predict(motion, motion.num_frames() - history_frames(), request);
+  Futures out;
+  out.k = f.k;
+  out.frames = f.t_pred;
+  out.joints = f.joints;
+  out.fps = f.fps;
+  out.positions = std::move(f.futures);
+  return out;
+}
+
+std::vector<SampleCheck> Model::Check(const Futures& futures) const {
+  const int J = static_cast<int>(joint_names().size());
+  const size_t per_sample = static_cast<size_t>(futures.frames) * J * 3;
+  if (futures.joints != J || futures.k < 1 || futures.frames < 1 ||
+      futures.positions.size() != futures.k * per_sample) {
+    throw std::invalid_argument("Check: expected futures [k, frames, " + std::to_string(J) +
+                                ", 3] holding k * frames * " + std::to_string(J * 3) +
+                                " values, got k = " + std::to_string(futures.k) +
+                                ", frames = " + std::to_string(futures.frames) +
+                                ", joints = " + std::to_string(futures.joints) + " and " +
+                                std::to_string(futures.positions.size()) + " values");
+  }
+  std::vector<SampleCheck> out;
+  for (int i = 0; i < futures.k; ++i) {
+    const float* s = futures.sample(i);
+    out.push_back(impl_->CheckFrames(
+        impl_->ToMotion(std::vector<float>(s, s + per_sample), "Check: futures")));
+  }
+  return out;
+}
+
+SampleCheck Model::CheckMotion(const std::vector<float>& positions) const {
+  return impl_->CheckFrames(impl_->ToMotion(positions, "CheckMotion: positions"));
+}
+
+std::vector<float> Model::ReadMotion(const std::string& path) const {
+  MotionReadOptions read;
+  read.skeleton = impl_->forecaster.skeleton();  // names .npy joints, maps .csv columns
+  read.fps = fps();                              // for files that store no frame rate
+  SkeletonConfig onto;
+  onto.skeleton = onto.source = impl_->forecaster.skeleton();
+  Motion m = ConformToSkeleton(ReadMotionFile(path, read), onto);
+  if (std::abs(m.fps() - fps()) > 1e-6 * fps()) m = Resample(m, fps());
+  return m.positions();
+}
+
+}  // namespace motionfork
