@@ -46,7 +46,12 @@ int Run(int argc, char** argv) {
 
   const std::vector<float> history = model.ReadMotion(argv[2]);
   const size_t frame_size = model.joint_names().size() * 3;
-  std::printf("history: %s, %zu frames\n", argv[2], history.size() / frame_size);
+  std::printf("history: %s, %zu frames", argv[2], history.size() / frame_size);
+  if (!model.constraint_set().empty()) {
+    const motionfork::SampleCheck h = model.CheckMotion(history);
+    std::printf(", %zu outside an angle range", h.violating_frames.size());
+  }
+  std::printf("\n");
 
   motionfork::PredictOptions options;
   options.k = argc > 3 ? std::atoi(argv[3]) : 10;
