@@ -33,8 +33,17 @@ float SpreadFromFirst(const motionfork::Futures& f, int joint) {
 }
 
 int Run(int argc, char** argv) {
+  const char* usage =
+      "usage: %s BUNDLE HISTORY [K] [FIXED_PART]\n"
+      "  Loads a model bundle, reads a history (.bvh, .npy, .csv), predicts K futures (default\n"
+      "  10) with FIXED_PART shared by all (default: the first part; \"none\": none), checks them\n"
+      "  against the bundle's angle ranges and prints a summary.\n";
+  if (argc == 2 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+    std::printf(usage, argv[0]);
+    return 0;
+  }
   if (argc < 3 || argc > 5) {
-    std::fprintf(stderr, "usage: %s BUNDLE HISTORY [K] [FIXED_PART]\n", argv[0]);
+    std::fprintf(stderr, usage, argv[0]);
     return 2;
   }
   const motionfork::Model model = motionfork::Model::Load(argv[1]);
