@@ -18,8 +18,11 @@ cd "$(dirname "$0")/.."
 #   libarchive-dev      reads datasets straight out of .tar.xz/.zip archives, no unpacking
 #   nlohmann-json3-dev  reads and writes prediction descriptions (JSON) without a hand-written parser
 #   python3 python3-numpy   tools/videopose3d_to_motionfork.py (Human3.6M / HumanEva-I npz)
+#   libcairo2-dev       draws the PNG/SVG strip figures of `motionfork render` (and decodes PNGs in its tests)
+#   chromium            headless browser the render tests load the HTML viewer in (play, screenshot)
 PACKAGES=(build-essential cmake ccache pkg-config libtorch-dev libopenblas-dev libeigen3-dev
-          libglm-dev libyaml-cpp-dev catch2 libcli11-dev libarchive-dev nlohmann-json3-dev python3 python3-numpy)
+          libglm-dev libyaml-cpp-dev catch2 libcli11-dev libarchive-dev nlohmann-json3-dev python3 python3-numpy
+          libcairo2-dev chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   AddPriorCommand(app, global);
   AddCheckCommand(app, global);
   AddConstraintsCommand(app, global);
+  AddRenderCommand(app, global);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,161 @@
+// motionfork render INPUT -o FILE.png|.svg|.html: pictures of a prediction (or a motion file).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "app_common.h"
+#include "commands.h"
+#include "io/file_util.h"
+#include "io/prediction_file.h"
+#include "motion_options.h"
+#include "render/html_viewer.h"
+#include "render/scene.h"
+#include "render/strip_figure.h"
+
+namespace motionfork::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RenderOptions {
+  std::string input;
+  std::string out;
+  int samples = 0;  // 0 = 5 in a figure, all in the viewer
+  std::vector<int> pick;
+  std::string up;
+  render::StripOptions
+      strip;  // figure options straight from the flags (its camera serves the viewer too)
+  MotionInputOptions input_options;
+};
+
+enum class OutputKind { kPng, kSvg, kHtml };
+
+OutputKind OutputKindOf(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".png") return OutputKind::kPng;
+  if (ext == ".svg") return OutputKind::kSvg;
+  if (ext == ".html" || ext == ".htm") return OutputKind::kHtml;
+  throw std::invalid_argument("-o " + path +
+                              ": expected a file name ending in .png, .svg or .html, got '" +
+                              (ext.empty() ? std::string("no extension") : ext) + "'");
+}
+
+// A prediction is its .json, or a .npy with the .json of the same name beside it.
+bool IsPrediction(const std::string& path) {
+  const fs::path p(path);
+  if (p.extension() == ".json") return true;
+  return p.extension() == ".npy" && fs::exists(fs::path(p).replace_extension(".json"));
+}
+
+std::string DefaultTitle(const Prediction& p, const std::string& input) {
+  if (p.model.empty() && p.history.empty()) return fs::path(input).filename().string();
+  std::string t = fs::path(p.history).filename().string() + " from frame " +
+                  std::to_string(p.start_frame) + ", " + std::to_string(p.k) + " futures";
+  if (!p.model.empty()) t += " of " + fs::path(p.model).filename().string();
+  if (!p.fixed_parts.empty()) {
+    t += ", fixed:";
+    for (const std::string& part : p.fixed_parts) t += " " + part;
+  }
+  return t;
+}
+
+void RunRender(const RenderOptions& o, const GlobalOptions& g) {
+  const OutputKind kind = OutputKindOf(o.out);
+  Prediction p;
+  if (IsPrediction(o.input)) {
+    p = ReadPrediction(o.input);
+  } else {
+    p = render::PredictionFromMotion(
+        LoadMotionInput(o.input, o.input_options, ConfigDir(g.config_dir)).motion);
+  }
+  if (p.k < 1) throw std::invalid_argument(o.input + ": expected at least one sample, got 0");
+  render::SceneOptions scene_options;
+  if (!o.up.empty()) scene_options.up = render::ParseSignedAxis(o.up);
+  const render::Scene scene = render::BuildScene(p, scene_options);
+  const std::string title = o.strip.title.empty() ? DefaultTitle(p, o.input) : o.strip.title;
+
+  std::string bytes;
+  std::string what;
+  if (kind == OutputKind::kHtml) {
+    render::ViewerOptions v;
+    v.samples = o.pick;
+    for (int k = 0; v.samples.empty() && o.samples > 0 && k < std::min(o.samples, p.k); ++k)
+      v.samples.push_back(k);
+    v.camera = o.strip.camera;
+    v.title = title;
+    bytes = render::RenderViewerHtml(scene, v);
+    what = std::to_string(v.samples.empty() ? p.k : static_cast<int>(v.samples.size())) +
+           " samples, " + std::to_string(p.frames()) + " frames";
+  } else {
+    render::StripOptions s = o.strip;
+    s.samples = o.pick;
+    if (o.samples > 0) s.max_samples = o.samples;
+    s.title = title;
+    const render::StripLayout layout = render::LayoutStrip(scene, s);
+    bytes = render::RenderStrip(
+        scene, s, kind == OutputKind::kPng ? render::ImageFormat::kPng : render::ImageFormat::kSvg);
+    what = std::to_string(layout.width) + " x " + std::to_string(layout.height) + " px, " +
+           std::to_string(layout.samples.size()) + " samples, a pose every " +
+           std::to_string(layout.every) + " frames";
+  }
+  WriteFileAtomically(o.out, bytes);
+  std::printf("wrote %s (%s; up axis %s)\n", o.out.c_str(), what.c_str(),
+              render::ToString(scene.up).c_str());
+}
+
+}  // namespace
+
+void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "render",
+      "Pictures of a prediction (OUT.json/OUT.npy from 'motionfork predict') or of a motion file.\n"
+      "FILE.png / FILE.svg: a strip figure (a pose every few frames; the history row, then one row "
+      "per\n"
+      "future; left limbs red, right blue, the history in pale tints, a fixed part dashed, "
+      "invalid\n"
+      "samples tinted). FILE.html: a self-contained viewer (no network) animating the history and "
+      "the\n"
+      "futures side by side, with play/pause, a frame slider, sample selection and speed.");
+  cmd->add_option("INPUT", o->input,
+                  "A prediction (.json, or .npy with its .json beside it) or a motion file (.bvh, "
+                  ".npy, .csv)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--out", o->out, "Output file: .png, .svg or .html")->required();
+  cmd->add_option("--samples", o->samples,
+                  "Samples shown: the first N (default 5 in a figure, all in the viewer)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--pick", o->pick,
+                  "Samples shown, by index (e.g. --pick 0,3,7); overrides --samples")
+      ->delimiter(',')
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--every", o->strip.every,
+                  "Figure: frames between drawn poses (default: about 12 future poses a row)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_flag("--overlay", o->strip.overlay,
+                "Figure: all futures overlaid in one row (translucent) instead of one row each");
+  cmd->add_option("--row-height", o->strip.row_height, "Figure: px per row (default 150)")
+      ->check(CLI::Range(40, 4000));
+  cmd->add_option("--column-width", o->strip.column_width, "Figure: px between poses (default 70)")
+      ->check(CLI::Range(10, 2000));
+  cmd->add_option("--line-width", o->strip.line_width, "Figure: bone width in px (default 3)")
+      ->check(CLI::Range(0.5, 50.0));
+  cmd->add_option(
+      "--up", o->up,
+      "The data's up axis: x, y, z, -x, -y or -z (default: from the data, the axis along which the "
+      "head is above the pelvis; Bandai/BVH is y, Human3.6M exports z)");
+  cmd->add_option("--azimuth", o->strip.camera.azimuth_deg,
+                  "View around the up axis, degrees: 0 = from the front, 90 = from the body's left "
+                  "(default 30)");
+  cmd->add_option("--elevation", o->strip.camera.elevation_deg,
+                  "View from above the horizon, degrees (default 8)")
+      ->check(CLI::Range(-89.0, 89.0));
+  cmd->add_option("--title", o->strip.title,
+                  "Title (default: the history file, start frame and model)");
+  AddMotionInputOptions(cmd, &o->input_options);
+  cmd->callback([o, &global] { RunRender(*o, global); });
+}
+
+}  // namespace motionfork::app
