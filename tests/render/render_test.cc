@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "io/archive.h"
+#include "io/bvh.h"
 #include "render/html_viewer.h"
 #include "render/scene.h"
 #include "render/strip_figure.h"
@@ -347,6 +349,60 @@ TEST_CASE("bad predictions and options are rejected with what was expected") {
   o.every = 1;
   o.column_width = 2000;
   CHECK_THROWS_WITH(LayoutStrip(scene, o), Catch::Contains("at most"));
+}
+
+TEST_CASE("a raw Bandai BVH clip stands upright and life-size and faces the viewer") {
+  const std::string data = testing::SharedDataDir("data/bandai");
+  if (data.empty()) {
+    WARN("SKIPPED: ../shared/data/bandai not found");
+    return;
+  }
+  std::string text;
+  ForEachArchiveFile(
+      data + "/bandai-1.tar.xz",
+      [](const std::string& path) {
+        return path.find("dataset-1_walk_normal_001.bvh") != std::string::npos;
+      },
+      [&](const std::string&, std::string_view bytes) { text = bytes; });
+  REQUIRE(!text.empty());
+  BvhOptions bvh;
+  bvh.scale_to_metres = 0.01;
+  const Motion clip = ReadBvhText(text, "dataset-1_walk_normal_001.bvh", bvh);
+  // 22 joints, no left/right pairs: sides come from the names, the ground-level joint_Root is
+  // not drawn and Hips is the pelvis.
+  const Scene scene = BuildScene(PredictionFromMotion(clip));
+  const Skeleton& s = clip.skeleton();
+  CHECK(ToString(scene.up) == "+y");
+  CHECK(scene.pelvis == s.Index("Hips"));
+  CHECK(scene.head == s.Index("Head"));
+  CHECK_FALSE(scene.drawn[s.Index("Hips")]);
+  CHECK(scene.sides[s.Index("Toes_L")] == Side::kLeft);
+  CHECK(scene.sides[s.Index("Shoulder_R")] == Side::kRight);
+  CHECK(scene.sides[s.Index("Neck")] == Side::kCentre);
+  // Means over the first second (the frames the facing direction comes from).
+  auto mean = [&](const char* joint, int a) {
+    double sum = 0;
+    for (int t = 0; t < 30; ++t) sum += scene.pose(0, t)[3 * s.Index(joint) + a];
+    return static_cast<float>(sum / 30);
+  };
+  const float height = mean("Head", 1) - std::min(mean("Toes_L", 1), mean("Toes_R", 1));
+  CHECK(height > 1.2f);  // a person, not squashed or in centimetres
+  CHECK(height < 1.9f);
+  const float shoulders = mean("UpperArm_L", 0) - mean("UpperArm_R", 0);
+  CHECK(shoulders > 0.15f);  // the left side on +x, seen from the front on the viewer's right
+  CHECK(shoulders < 0.6f);
+  const float toes_l = mean("Toes_L", 2) - mean("Foot_L", 2),
+              toes_r = mean("Toes_R", 2) - mean("Foot_R", 2);
+  CHECK(toes_l > 0.02f);  // the feet point at the viewer
+  CHECK(toes_r > 0.02f);
+  WARN("Bandai walk: " << height << " m from toes to head joint, " << shoulders
+                       << " m between the shoulders, toes " << toes_l << " and " << toes_r
+                       << " m ahead of the ankles");
+
+  const Image img = DecodePng(RenderStrip(scene, {}, ImageFormat::kPng));
+  const int poses = LayoutStrip(scene, {}).rows_top;
+  CHECK(img.Count(Palette().future_left, poses) > 100);
+  CHECK(img.Count(Palette().future_right, poses) > 100);
 }
 
 }  // namespace motionfork::render
