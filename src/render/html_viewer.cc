@@ -79,6 +79,7 @@ std::string RenderViewerHtml(const Scene& scene, const ViewerOptions& options) {
       {"sides", sides},
       {"fixed", std::vector<int>(scene.fixed.begin(), scene.fixed.end())},
       {"drawn", std::vector<int>(scene.drawn.begin(), scene.drawn.end())},
+      {"visible", std::vector<int>(scene.visible.begin(), scene.visible.end())},
       {"pelvis", scene.pelvis},
       {"head", scene.head},
       {"fixed_parts", scene.fixed_parts},

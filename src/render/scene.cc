@@ -195,6 +195,14 @@ Scene BuildScene(const Prediction& p, const SceneOptions& options) {
     }
   }
 
+  scene.visible.assign(J, 0);
+  bool any_bone = false;
+  for (int j = 1; j < J; ++j) {
+    if (scene.drawn[j]) scene.visible[j] = scene.visible[s.parent(j)] = 1, any_bone = true;
+  }
+  if (scene.head >= 0) scene.visible[scene.head] = 1;
+  if (!any_bone) scene.visible.assign(J, 1);
+
   // Anchor frames: the history (a plain motion: its first second); the last one is the origin.
   const int anchor_end = p.t_his > 0 ? p.t_his : std::min(T, std::max(1, static_cast<int>(p.fps)));
   const int origin_frame = p.t_his > 0 ? p.t_his - 1 : 0;
@@ -266,8 +274,10 @@ Scene BuildScene(const Prediction& p, const SceneOptions& options) {
     scene.body[i] = static_cast<float>(Dot(d, left));
     scene.body[i + 1] = static_cast<float>(Dot(d, up));
     scene.body[i + 2] = static_cast<float>(Dot(d, facing));
-    if (first || scene.body[i + 1] < ground) ground = scene.body[i + 1];
-    first = false;
+    if (scene.visible[i / 3 % J] && (first || scene.body[i + 1] < ground)) {
+      ground = scene.body[i + 1];
+      first = false;
+    }
   }
   for (size_t i = 1; i < scene.body.size(); i += 3) scene.body[i] -= ground;
   return scene;

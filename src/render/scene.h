@@ -56,8 +56,12 @@ struct Scene {
   std::vector<Side> sides;           // [J]
   std::vector<char> fixed;           // [J] 1 when the joint belongs to a fixed part
   std::vector<char> drawn;           // [J] 1 when the bone joint -> parent is drawn
-  int pelvis = 0;                    // the joint poses are centred on (the root, or its only child)
-  int head = -1;                     // the joint drawn with a head circle, -1 when none is known
+  // [J] 1 when the joint shows (an end of a drawn bone, the head; every joint when no bone is
+  // drawn, e.g. an anonymous skeleton, whose joints are drawn as dots). Scales and the ground
+  // come from these joints only.
+  std::vector<char> visible;
+  int pelvis = 0;  // the joint poses are centred on (the root, or its only child)
+  int head = -1;   // the joint drawn with a head circle, -1 when none is known
   std::vector<std::string> fixed_parts;
   std::vector<SampleValidity> samples;  // K entries, or empty (validity unknown)
   SignedAxis up;                        // the data axis used as up

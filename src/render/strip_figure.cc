@@ -71,6 +71,7 @@ class StripPainter {
       : cr_(cr), scene_(scene), o_(o), layout_(layout) {
     has_history_row_ = !layout.history_frames.empty();
     first_future_column_ = static_cast<int>(layout.history_frames.size());
+    dots_ = std::none_of(scene.drawn.begin(), scene.drawn.end(), [](char d) { return d != 0; });
     FitScale();
   }
 
@@ -110,9 +111,10 @@ class StripPainter {
     bool first = true;
     auto visit = [&](int k, int t) {
       ProjectCentred(scene_.pose(k, t), &pts);
-      for (const ScreenPoint& p : pts) {
-        if (first || p.y < ground_) ground_ = static_cast<float>(p.y);
-        if (first || p.y > top_) top_ = static_cast<float>(p.y);
+      for (int j = 0; j < scene_.joints(); ++j) {
+        if (!scene_.visible[j]) continue;
+        if (first || pts[j].y < ground_) ground_ = pts[j].y;
+        if (first || pts[j].y > top_) top_ = pts[j].y;
         first = false;
       }
     };
@@ -121,7 +123,8 @@ class StripPainter {
       for (int t : layout_.future_frames) visit(k, t);
       if (scene_.t_his > 0) visit(k, scene_.t_his - 1);
     }
-    const double height_m = std::max(0.1, static_cast<double>(top_ - ground_));
+    const double head = scene_.head >= 0 ? kHeadRadius : 0;  // the circle reaches above the joint
+    const double height_m = std::max(0.1, top_ + head - ground_);
     scale_ = (o_.row_height - 2.0 * kRowPad) / height_m;
   }
 
@@ -276,10 +279,12 @@ class StripPainter {
       if (!scene_.samples.empty() && !scene_.samples[k].valid)
         invalid += (invalid.empty() ? "" : ", ") + std::to_string(k);
     }
-    const bool valid = invalid.empty();
+    const bool valid = invalid.empty(), known = !scene_.samples.empty();
     PaintLabel(row, std::to_string(layout_.samples.size()) + " futures",
-               valid ? "all valid" : "invalid: " + invalid,
-               scene_.samples.empty() ? nullptr : &valid);
+               !known  ? ""
+               : valid ? "all valid"
+                       : "invalid: " + invalid,
+               known ? &valid : nullptr);
     const int k0 = layout_.samples.front();
     if (scene_.t_his > 0)
       DrawPose(scene_.pose(k0, scene_.t_his - 1), Role::kHistory, first_future_column_ - 1, row, 1);
@@ -342,7 +347,7 @@ class StripPainter {
       cairo_set_line_width(cr_, o_.line_width * 0.8);
       cairo_stroke(cr_);
     }
-    if (scene_.skeleton->is_anonymous()) {  // no limbs known: the joints as dots
+    if (dots_) {  // no limbs known: the joints as dots
       for (int j = 0; j < J; ++j) {
         cairo_new_sub_path(cr_);
         cairo_arc(cr_, X(j), Y(j), o_.line_width, 0, 2 * M_PI);
@@ -358,6 +363,7 @@ class StripPainter {
   const StripLayout& layout_;
   bool has_history_row_ = false;
   int first_future_column_ = 0;
+  bool dots_ = false;           // no bone is drawn: joints as dots
   float ground_ = 0, top_ = 0;  // projected y range of the drawn poses, metres
   double scale_ = 1;            // px per metre
   std::vector<ScreenPoint> pts_;
@@ -401,8 +407,9 @@ StripLayout LayoutStrip(const Scene& scene, const StripOptions& o) {
   l.future_rows = l.future_frames.empty() ? 0 : o.overlay ? 1 : static_cast<int>(l.samples.size());
   const long columns = static_cast<long>(l.history_frames.size() + l.future_frames.size());
   const long rows = (l.history_frames.empty() ? 0 : 1) + l.future_rows;
-  const long width =
-      std::max<long>(kMinWidth, 2L * kMargin + kLabelWidth + columns * o.column_width);
+  // Half a column more on the right: the last poses' arms reach past their column.
+  const long width = std::max<long>(
+      kMinWidth, 2L * kMargin + kLabelWidth + (2 * columns + 1) * o.column_width / 2);
   l.rows_top = kMargin + (o.title.empty() ? 0 : kTitleHeight) + kLegendHeight + kAxisHeight;
   const long height = l.rows_top + rows * o.row_height + kMargin;
   if (width > kMaxSide || height > kMaxSide) {

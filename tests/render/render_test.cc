@@ -161,7 +161,7 @@ TEST_CASE("strip PNG decodes with the layout's size and shows both sides' colour
   // History frames 4 9 14, future frames 19..44: 9 columns; rows: history + 3 samples.
   CHECK(layout.history_frames == std::vector<int>{4, 9, 14});
   CHECK(layout.future_frames == std::vector<int>{19, 24, 29, 34, 39, 44});
-  CHECK(layout.width == 12 * 2 + 120 + 9 * 50);
+  CHECK(layout.width == 12 * 2 + 120 + 9 * 50 + 25);  // half a column of room on the right
   CHECK(layout.height == 12 * 2 + 22 + 18 + 4 * 120);
 
   const Image img = DecodePng(Png(p, o));
@@ -376,6 +376,7 @@ TEST_CASE("a raw Bandai BVH clip stands upright and life-size and faces the view
   CHECK(scene.pelvis == s.Index("Hips"));
   CHECK(scene.head == s.Index("Head"));
   CHECK_FALSE(scene.drawn[s.Index("Hips")]);
+  CHECK_FALSE(scene.visible[s.Index("joint_Root")]);  // it stays put while the body moves away
   CHECK(scene.sides[s.Index("Toes_L")] == Side::kLeft);
   CHECK(scene.sides[s.Index("Shoulder_R")] == Side::kRight);
   CHECK(scene.sides[s.Index("Neck")] == Side::kCentre);
