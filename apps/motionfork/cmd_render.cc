@@ -1,4 +1,6 @@
 // motionfork render INPUT -o FILE.png|.svg|.html: pictures of a prediction (or a motion file).
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -126,14 +128,14 @@ void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("-o,--out", o->out, "Output file: .png, .svg or .html")->required();
   cmd->add_option("--samples", o->samples,
                   "Samples shown: the first N (default 5 in a figure, all in the viewer)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000));
   cmd->add_option("--pick", o->pick,
                   "Samples shown, by index (e.g. --pick 0,3,7); overrides --samples")
       ->delimiter(',')
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--every", o->strip.every,
                   "Figure: frames between drawn poses (default: about 12 future poses a row)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 1000000));
   cmd->add_flag("--overlay", o->strip.overlay,
                 "Figure: all futures overlaid in one row (translucent) instead of one row each");
   cmd->add_option("--row-height", o->strip.row_height, "Figure: px per row (default 150)")
@@ -142,10 +144,11 @@ void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::Range(10, 2000));
   cmd->add_option("--line-width", o->strip.line_width, "Figure: bone width in px (default 3)")
       ->check(CLI::Range(0.5, 50.0));
-  cmd->add_option(
-      "--up", o->up,
-      "The data's up axis: x, y, z, -x, -y or -z (default: from the data, the axis along which the "
-      "head is above the pelvis; Bandai/BVH is y, Human3.6M exports z)");
+  cmd->add_option("--up", o->up,
+                  "The data's up axis: x, y, z, -x, -y or -z (default: from the data, the axis "
+                  "along which the "
+                  "head is above the pelvis; Bandai/BVH is y, Human3.6M exports z)")
+      ->check(CLI::IsMember({"x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z"}, CLI::ignore_case));
   cmd->add_option("--azimuth", o->strip.camera.azimuth_deg,
                   "View around the up axis, degrees: 0 = from the front, 90 = from the body's left "
                   "(default 30)");

@@ -296,7 +296,8 @@ void ValidateCamera(const Camera& camera) {
 
 void Project(const float* pose, int joints, const Camera& camera, std::vector<ScreenPoint>* out) {
   const double a = camera.azimuth_deg * kPi / 180, e = camera.elevation_deg * kPi / 180;
-  // Toward the camera, screen right (horizontal) and screen up = toward x right.
+  // Unit vectors in the body frame: c toward the camera, r screen right (horizontal), u = c x r
+  // screen up; the camera at azimuth 0, elevation 0 sees x to the right and y up.
   const Vec3 c{std::cos(e) * std::sin(a), std::sin(e), std::cos(e) * std::cos(a)};
   const Vec3 r{std::cos(a), 0, -std::sin(a)};
   const Vec3 u = Cross(c, r);

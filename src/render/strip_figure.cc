@@ -189,8 +189,11 @@ class StripPainter {
     const double ly = y + 14;
     if (has_history_row_)
       x = LegendItem(x, ly, {p.history_left, p.history_right}, false, "history");
-    x = LegendItem(x, ly, {p.future_left}, false, "left");
-    x = LegendItem(x, ly, {p.future_right}, false, "right");
+    const auto sided = [&](Side side) {
+      return std::find(scene_.sides.begin(), scene_.sides.end(), side) != scene_.sides.end();
+    };
+    if (sided(Side::kLeft)) x = LegendItem(x, ly, {p.future_left}, false, "left");
+    if (sided(Side::kRight)) x = LegendItem(x, ly, {p.future_right}, false, "right");
     if (!scene_.fixed_parts.empty()) {
       std::string parts;
       for (const std::string& s : scene_.fixed_parts) parts += (parts.empty() ? "" : ", ") + s;
