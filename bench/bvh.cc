@@ -22,6 +22,7 @@
 
 #include "core/error.h"
 #include "io/archive.h"
+#include "torch_util/blas_core.h"
 
 namespace {
 
@@ -86,6 +87,7 @@ std::string MakeBandaiLike(int frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   int frames = 100000;
   int repeat = 5;
   bool use_data = true;

@@ -23,6 +23,7 @@
 #include "constraints/checker.h"
 #include "constraints/constraint_set.h"
 #include "constraints/torch/angle_penalty.h"
+#include "torch_util/blas_core.h"
 
 using namespace motionfork;
 
@@ -56,6 +57,7 @@ double Seconds(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   const std::string config_dir = argc > 1 ? argv[1] : MOTIONFORK_BENCH_CONFIG_DIR;
   torch::set_num_threads(1);
   torch::set_num_interop_threads(1);

@@ -14,10 +14,12 @@
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "dataset/dataset.h"
+#include "torch_util/blas_core.h"
 
 using namespace motionfork;
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   const std::string protocol_name = argc > 1 ? argv[1] : "bandai";
   const std::string data = argc > 2 ? argv[2] : "../shared/data/bandai";
   const std::string config_dir = argc > 3 ? argv[3] : MOTIONFORK_BENCH_CONFIG_DIR;

@@ -19,6 +19,7 @@
 #include "eval/baselines.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
+#include "torch_util/blas_core.h"
 
 using namespace motionfork;
 
@@ -45,6 +46,7 @@ void Report(const char* name, const EvalResult& r, double wall, double cpu) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   const std::string protocol_name = argc > 1 ? argv[1] : "bandai";
   const std::string data = argc > 2 ? argv[2] : "../shared/data/bandai";
   const int k = argc > 3 ? std::stoi(argv[3]) : 50;

@@ -24,6 +24,7 @@
 
 #include "flow/flow_module.h"
 #include "torch_util/threads.h"
+#include "torch_util/blas_core.h"
 
 using namespace motionfork;
 
@@ -84,6 +85,7 @@ torch::Tensor OriginalLogProb(const PoseFlow& flow, const torch::Tensor& x) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   int threads = 1, reps = 200;
   bool glibc_default = false;
   for (int i = 1; i < argc; ++i) {

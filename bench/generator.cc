@@ -15,6 +15,7 @@
 
 #include "generator/generator_net.h"
 #include "torch_util/threads.h"
+#include "torch_util/blas_core.h"
 
 using namespace motionfork;
 
@@ -36,6 +37,7 @@ double MacsPerSample(const GeneratorOptions& o, int parts) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   int threads = 1;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);

@@ -107,6 +107,7 @@ int Run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);
   try {
     return Run(argc, argv);
   } catch (const std::exception& e) {

@@ -8,8 +8,10 @@
 #include "app_common.h"
 #include "commands.h"
 #include "core/error.h"
+#include "torch_util/blas_core.h"
 
 int main(int argc, char** argv) {
+  motionfork::UseFastBlasKernels(argv);  // OpenBLAS's fast kernels on CPUs it does not know
   using namespace motionfork::app;
   CLI::App app{"motionfork " MOTIONFORK_VERSION
                ": diverse, controllable human motion prediction.\n"
@@ -32,7 +34,9 @@ int main(int argc, char** argv) {
   AddPriorCommand(app, global);
   AddCheckCommand(app, global);
   AddConstraintsCommand(app, global);
+  AddExportCommand(app, global);
   AddRenderCommand(app, global);
+  AddSynthCommand(app, global);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

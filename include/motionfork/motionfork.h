@@ -26,6 +26,13 @@
 
 namespace motionfork {
 
+// Call first thing in main(). OpenBLAS chooses its kernels from the CPU model when it loads and
+// falls back to a slow generic one (about 5x slower) on CPUs newer than it knows; this re-executes
+// the program with $OPENBLAS_CORETYPE set to the best kernel the CPU supports when that happened,
+// and returns at once otherwise (or when the user set $OPENBLAS_CORETYPE). Optional: setting
+// $OPENBLAS_CORETYPE yourself (e.g. SkylakeX, Haswell) has the same effect.
+void UseFastBlasKernels(char** argv);
+
 // How Model::Load finds what a bundle refers to.
 struct LoadOptions {
   // Folder of the shipped configs (holding constraints/, skeletons/, ...). "" = the first that
