@@ -21,14 +21,12 @@
 #include "dataset/dataset.h"
 #include "eval/baselines.h"
 #include "generator/forecaster.h"
-#include "config/constraint_config.h"
-#include "constraints/checker.h"
-#include "flow/pose_prior.h"
 #include "generator/generator_predictor.h"
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
 #include "io/file_util.h"
+#include "validity/pose_validator.h"
 
 namespace motionfork::app {
 namespace {
@@ -58,9 +56,7 @@ struct EvalCommandOptions {
 // Plausibility scorers: angle-violation rate (any constraint outside its range in a frame) and
 // prior NLL (nats per pose). Both are optional; their sources are printed in the table header.
 struct Scorers {
-  std::unique_ptr<ConstraintSet> set;
-  std::unique_ptr<AngleChecker> checker;
-  std::unique_ptr<PosePrior> prior;
+  std::unique_ptr<PoseValidator> validator;
   std::vector<FrameScorer> list;
   std::string described;
 };
@@ -73,37 +69,27 @@ void AddScorers(const EvalCommandOptions& o, const ProtocolOptions& p,
   if (constraints.empty() && fs::is_regular_file(fs::path(config_dir) / "constraints" / (p.name + ".yaml"))) {
     constraints = p.name;
   }
-  if (!constraints.empty() && constraints != "none") {
-    const std::string path = ResolveConfigPath(config_dir, "constraints", constraints);
-    out->set = std::make_unique<ConstraintSet>(ConstraintSet::Build(LoadConstraintConfig(path), *skeleton));
-    out->checker = std::make_unique<AngleChecker>(*out->set);
-    const AngleChecker* checker = out->checker.get();
-    const int C = out->set->num_constraints();
-    out->list.push_back(FrameScorer{"angle_violation_rate", [checker, C](const float* pos, int n, double* scores) {
-      std::vector<AngleStatus> status(static_cast<size_t>(n) * C);
-      checker->Run(pos, n, nullptr, status.data());
-      for (int t = 0; t < n; ++t) {
-        scores[t] = 0;
-        for (int c = 0; c < C; ++c) scores[t] = std::max(scores[t], IsViolation(status[t * C + c]) ? 1.0 : 0.0);
-      }
-    }});
-    out->described += "angles: " + path;
-  }
+  const std::string constraints_path = !constraints.empty() && constraints != "none"
+                                           ? ResolveConfigPath(config_dir, "constraints", constraints)
+                                           : "";
   std::string prior = o.prior;
   const fs::path shipped = fs::path(MOTIONFORK_CONFIG_DIR).parent_path() / "models" / ("prior-" + p.name);
   if (prior.empty() && fs::is_directory(shipped)) prior = shipped.string();
-  if (!prior.empty() && prior != "none") {
-    out->prior = std::make_unique<PosePrior>(PosePrior::Load(prior));
-    out->prior->CheckSkeleton(*skeleton);
-    const PosePrior* pp = out->prior.get();
-    const double fps = p.fps;
-    out->list.push_back(FrameScorer{"prior_nll", [pp, skeleton, fps](const float* pos, int n, double* scores) {
-      const Motion m(skeleton, fps, std::vector<float>(pos, pos + static_cast<size_t>(n) * skeleton->num_joints() * 3));
-      const std::vector<double> lp = pp->LogProb(m);
-      for (int t = 0; t < n; ++t) scores[t] = -lp[t];
-    }});
-    out->described += std::string(out->described.empty() ? "" : "; ") + "prior: " + prior;
+  if (prior == "none") prior.clear();
+  out->validator = std::make_unique<PoseValidator>(skeleton, p.fps, constraints_path, prior);
+  const PoseValidator* v = out->validator.get();
+  auto copy = [](const std::vector<double>& from, double* to) { std::copy(from.begin(), from.end(), to); };
+  if (v->has_constraints()) {
+    out->list.push_back(FrameScorer{"angle_violation_rate", [v, copy](const float* pos, int n, double* scores) {
+                                      copy(v->ViolationFlags(pos, n), scores);
+                                    }});
   }
+  if (v->has_prior()) {
+    out->list.push_back(FrameScorer{"prior_nll", [v, copy](const float* pos, int n, double* scores) {
+                                      copy(v->PriorNll(pos, n), scores);
+                                    }});
+  }
+  out->described = v->described();
 }
 
 const char* const kBaselines = "zero-velocity, nearest-neighbours";

@@ -6,11 +6,13 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "core/error.h"
 #include "core/resample.h"
 #include "generator/forecaster.h"
 #include "io/file_util.h"
-#include "io/npy.h"
+#include "io/prediction_file.h"
 #include "motion_options.h"
+#include "validity/pose_validator.h"
 
 namespace motionfork::app {
 namespace {
@@ -42,40 +44,69 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
     history = Resample(history, mc.fps);
   }
   const int t_his = mc.generator.t_his;
-  const int start = o.start >= 0 ? o.start : history.num_frames() - t_his;
+  const int frames = history.num_frames();
+  if (frames < t_his || (o.start >= 0 && o.start + t_his > frames)) {
+    char need[160];
+    std::snprintf(need, sizeof(need), "the model needs %d history frames (%.3g s at %.6g Hz)", t_his, t_his / mc.fps,
+                  mc.fps);
+    throw FormatError(o.history + ": " + need +
+                      (o.start >= 0 ? ", frames " + std::to_string(o.start) + ".." + std::to_string(o.start + t_his - 1) +
+                                          " with --start " + std::to_string(o.start)
+                                    : std::string()) +
+                      "; the motion has " + std::to_string(frames) + " frames");
+  }
+  const int start = o.start >= 0 ? o.start : frames - t_his;
   ForecastRequest req;
   req.k = o.k;
   req.seed = o.seed;
   req.fixed_parts = o.fix;
   const Forecast f = model.Predict(history, start, req);
 
-  // [K, t_his + t_pred, J, 3]: each sample is the history followed by its future.
-  const int T = f.t_his + f.t_pred, J = f.joints;
-  NpyArray out;
-  out.shape = {f.k, T, J, 3};
-  out.data.resize(static_cast<size_t>(f.k) * T * J * 3);
+  // Each sample: the history followed by its future, [K, t_his + t_pred, J, 3].
+  Prediction p;
+  p.model = o.model;
+  p.protocol = mc.protocol;
+  p.history = o.history;
+  p.start_frame = start;
+  p.k = f.k;
+  p.t_his = f.t_his;
+  p.t_pred = f.t_pred;
+  p.seed = o.seed;
+  p.fps = f.fps;
+  p.skeleton = model.skeleton();
+  p.fixed_parts = o.fix;
+  const size_t future_size = static_cast<size_t>(f.t_pred) * f.joints * 3;
   for (int k = 0; k < f.k; ++k) {
-    float* dst = out.data.data() + static_cast<size_t>(k) * T * J * 3;
-    std::copy(f.history.begin(), f.history.end(), dst);
-    std::copy(f.futures.begin() + static_cast<size_t>(k) * f.t_pred * J * 3,
-              f.futures.begin() + static_cast<size_t>(k + 1) * f.t_pred * J * 3, dst + f.history.size());
+    p.positions.insert(p.positions.end(), f.history.begin(), f.history.end());
+    p.positions.insert(p.positions.end(), f.futures.begin() + k * future_size, f.futures.begin() + (k + 1) * future_size);
   }
-  std::string base = o.out;
-  if (base.size() > 4 && base.substr(base.size() - 4) == ".npy") base = base.substr(0, base.size() - 4);
-  WriteNpy(base + ".npy", out);
-  std::ostringstream j;
-  j << "{\n  \"model\": \"" << o.model << "\",\n  \"protocol\": \"" << mc.protocol << "\",\n  \"history\": \""
-    << o.history << "\",\n  \"start_frame\": " << start << ",\n  \"k\": " << f.k << ",\n  \"seed\": " << o.seed
-    << ",\n  \"fps\": " << f.fps << ",\n  \"t_his\": " << f.t_his << ",\n  \"t_pred\": " << f.t_pred
-    << ",\n  \"joints\": [";
-  for (int i = 0; i < J; ++i) j << (i ? ", " : "") << "\"" << model.skeleton()->joint_name(i) << "\"";
-  j << "],\n  \"fixed_parts\": [";
-  for (size_t i = 0; i < o.fix.size(); ++i) j << (i ? ", " : "") << "\"" << o.fix[i] << "\"";
-  j << "],\n  \"array\": \"" << std::filesystem::path(base + ".npy").filename().string()
-    << "\",\n  \"shape\": [" << f.k << ", " << T << ", " << J << ", 3]\n}\n";
-  WriteFileAtomically(base + ".json", j.str());
+  // Plausibility of every future (and of the history, for reference) with the bundle's own
+  // constraint set and prior, when it carries them.
+  const PoseValidator validator = PoseValidator::FromBundle(o.model, model.skeleton(), mc.fps);
+  int valid = 0;
+  double nll_sum = 0;
+  if (validator.has_constraints() || validator.has_prior()) {
+    p.history_validity = validator.Score(f.history.data(), f.t_his);
+    for (int k = 0; k < f.k; ++k) {
+      p.samples.push_back(validator.Score(f.futures.data() + k * future_size, f.t_pred));
+      valid += p.samples.back().valid;
+      nll_sum += p.samples.back().prior_nll.value_or(0.0);
+    }
+  }
+  const std::string base = WritePrediction(o.out, p);
   std::printf("wrote %s.npy [%d, %d, %d, 3] (history + %d futures, %.6g Hz) and %s.json\n", base.c_str(), f.k,
-              T, J, f.k, f.fps, base.c_str());
+              p.frames(), f.joints, f.k, f.fps, base.c_str());
+  if (validator.has_constraints()) {
+    std::printf("angle ranges: %d of %d futures valid in every frame (history: %d of %d frames violate)\n", valid,
+                f.k, p.history_validity->violating_frames, f.t_his);
+  }
+  if (validator.has_prior()) {
+    std::printf("prior NLL: futures %.2f nats per pose (mean), history %.2f\n", nll_sum / f.k,
+                *p.history_validity->prior_nll);
+  }
+  if (!validator.has_constraints() && !validator.has_prior()) {
+    std::printf("no validity figures: the bundle carries no constraints.yaml or prior/\n");
+  }
 }
 
 }  // namespace
@@ -86,7 +117,8 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
       "predict",
       "Predict K futures of a history with a trained model bundle.\n"
       "Writes OUT.npy [K, t_his + t_pred, J, 3] (each sample: the history, then its future; metres;\n"
-      "the root stays where the history ended: models predict root-relative poses) and OUT.json.");
+      "the root stays where the history ended: models predict root-relative poses) and OUT.json\n"
+      "(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).");
   cmd->add_option("--model", o->model, "Model bundle folder (model.yaml + generator.pt)")->required();
   cmd->add_option("--history", o->history, "Motion file holding the history (.bvh, .npy, .csv)")
       ->required()

@@ -17,6 +17,7 @@
 #include "config/training_options.h"
 #include "dataset/dataset.h"
 #include "generator/training.h"
+#include "validity/pose_validator.h"
 
 namespace motionfork::app {
 namespace {
@@ -29,6 +30,17 @@ struct TrainOptions {
   int epochs = 0;  // override
   int stop_after = 0;
 };
+
+// Loss term names as the progress bar shows them.
+std::string ShortTermName(const std::string& name) {
+  static const std::pair<const char*, const char*> kShort[] = {
+      {"total", "loss"}, {"past_reconstruction", "past"}, {"limb_length", "limb"}, {"diversity_", "div"},
+      {"best_of_many", "bom"}, {"multimodal", "mm"}, {"prior_nll", "prior"}, {"angle", "angle"}};
+  for (const auto& [full, brief] : kShort) {
+    if (name.rfind(full, 0) == 0) return brief + name.substr(std::string(full).size());
+  }
+  return name;
+}
 
 void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   const std::string config_dir = ConfigDir(g.config_dir);
@@ -65,8 +77,10 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
 
   LossHooks hooks;
   std::shared_ptr<AnglePenalty> penalty;
+  std::string constraints_path, prior_dir;  // copied into the bundle: it describes itself
   if (!cfg.constraints.empty()) {
     const std::string path = ResolveConfigPath(config_dir, "constraints", cfg.constraints);
+    constraints_path = path;
     const ConstraintSet set = ConstraintSet::Build(LoadConstraintConfig(path), *skeleton.skeleton);
     penalty = std::make_shared<AnglePenalty>(set);
     // Predicted poses are root-relative without the root: put the root back at the origin.
@@ -94,15 +108,22 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
       return -prior->module()->log_prob(LimbDirectionsRootRelative(poses, parents)).mean();
     };
     std::printf("prior loss: %s\n", dir.c_str());
+    prior_dir = dir;
   }
+  AttachToBundle(o.out, constraints_path, prior_dir);
   TrainCallbacks cb;
   std::unique_ptr<ProgressBar> bar;
   cb.step = [&](int epoch, double fraction, const std::vector<std::pair<std::string, double>>& terms) {
     if (!bar) bar = std::make_unique<ProgressBar>("epoch " + std::to_string(epoch + 1) + "/" +
                                                       std::to_string(cfg.training.epochs), !g.quiet);
-    char buf[64];
-    std::snprintf(buf, sizeof(buf), "loss %.4g", terms.front().second);
-    bar->Update(fraction, buf);
+    // Every loss term, in short: "loss 0.43 rec 0.0011 limb 0.0002 div0 0.0063 ...".
+    std::string detail;
+    for (const auto& [name, v] : terms) {
+      char buf[48];
+      std::snprintf(buf, sizeof(buf), "%s%s %.3g", detail.empty() ? "" : " ", ShortTermName(name).c_str(), v);
+      detail += buf;
+    }
+    bar->Update(fraction, detail);
   };
   cb.epoch = [&](int epoch, const std::vector<std::pair<std::string, double>>& terms, double seconds) {
     bar.reset();
@@ -124,8 +145,9 @@ void AddTrainCommand(CLI::App& app, GlobalOptions& global) {
   CLI::App* cmd = app.add_subcommand(
       "train",
       "Train a generator (configs/models/NAME.yaml) on a protocol's training split.\n"
-      "Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt), a row of OUT/log.csv and a\n"
-      "checkpoint; running the same command again resumes where it stopped.");
+      "Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and\n"
+      "OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; running the\n"
+      "same command again resumes where it stopped.");
   cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")->required();
   cmd->add_option("--data", o->data, "Data folder of the config's protocol")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out, "Output folder (bundle, log, checkpoint)")->required();

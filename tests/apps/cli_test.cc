@@ -1,42 +1,23 @@
 // The motionfork command, run as users run it: help, exit statuses, info/convert/dataset stats.
 #include <catch2/catch.hpp>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
 
 #include "io/csv.h"
 #include "io/npy.h"
+#include "run_motionfork.h"
 #include "test_support.h"
 
 using namespace motionfork;
 
-namespace {
-
-struct Run {
-  int status;
-  std::string output;  // stdout and stderr
-};
-
-Run Motionfork(const std::string& args) {
-  const std::string cmd = std::string(MOTIONFORK_BINARY) + " --cache-dir none " + args + " 2>&1";
-  Run r{0, ""};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  REQUIRE(pipe);
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int st = pclose(pipe);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-}  // namespace
+using testing::Motionfork;
+using testing::Run;
 
 TEST_CASE("every subcommand has --help") {
-  for (const char* sub : {"", "info", "convert", "dataset", "dataset stats"}) {
+  for (const char* sub : {"", "info", "convert", "dataset", "dataset stats", "train", "predict", "eval", "prior",
+                          "prior train", "prior score", "prior sample", "check", "constraints", "constraints fit",
+                          "constraints show", "export", "render", "synth"}) {
     const Run r = Motionfork(std::string(sub) + " --help");
     INFO(sub << ": " << r.output);
     CHECK(r.status == 0);

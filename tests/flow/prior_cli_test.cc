@@ -16,6 +16,7 @@
 #include "io/csv.h"
 #include "io/file_util.h"
 #include "io/npy.h"
+#include "run_motionfork.h"
 #include "test_support.h"
 
 extern char** environ;
@@ -34,23 +35,9 @@ std::string MissingBinary() {
   return "SKIPPED: " + Binary() + " not built (build the motionfork target first)";
 }
 
-struct Run {
-  int status;
-  std::string output;  // stdout and stderr
-};
+using testing::Run;
 
-Run Motionfork(const std::string& args) {
-  const std::string cmd = Binary() + " --cache-dir none " + args + " 2>&1";
-  Run r{0, ""};
-  FILE* pipe = popen(cmd.c_str(), "r");
-  REQUIRE(pipe);
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int st = pclose(pipe);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+Run Motionfork(const std::string& args) { return testing::RunMotionfork(Binary(), args); }
 
 // Runs the command and sends SIGINT when a line of its output contains `trigger`.
 Run MotionforkInterrupted(const std::vector<std::string>& args, const std::string& trigger) {
@@ -209,15 +196,7 @@ TEST_CASE(
   const std::string common = "--cache-dir " + cache + " prior train --protocol bandai --data " +
                              data + " --config " + dir.file("tiny.yaml") + " --out ";
   auto run = [&](const std::string& out, const std::string& extra = "") {
-    const std::string cmd = Binary() + " " + common + out + extra + " 2>&1";
-    Run r{0, ""};
-    FILE* pipe = popen(cmd.c_str(), "r");
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-    const int st = pclose(pipe);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return r;
+    return testing::RunShell(Binary() + " " + common + out + extra + " 2>&1");
   };
   Run r = run(dir.file("a"));
   INFO(r.output);
