@@ -21,6 +21,8 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global);
 void AddPriorCommand(CLI::App& app, GlobalOptions& global);
 void AddCheckCommand(CLI::App& app, GlobalOptions& global);
 void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
+void AddExportCommand(CLI::App& app, GlobalOptions& global);
 void AddRenderCommand(CLI::App& app, GlobalOptions& global);
+void AddSynthCommand(CLI::App& app, GlobalOptions& global);
 
 }  // namespace motionfork::app

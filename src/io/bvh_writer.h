@@ -35,6 +35,9 @@ struct BvhWriteOptions {
   PoseFitOptions fit;
 };
 
+// Throws std::invalid_argument naming the field, its value and the rule it breaks.
+void ValidateBvhWriteOptions(const BvhWriteOptions& options);
+
 // All-or-nothing write (io/file_util.h). Throws std::invalid_argument for bad options, a joint
 // name a BVH file cannot hold (empty, whitespace, braces) or a motion FitPose rejects (no limb
 // structure, a bone of zero length, naming the frame); FormatError naming the file when it cannot
