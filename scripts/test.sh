@@ -4,6 +4,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+# Test-only package: Blender, to import our BVH files in a real animation tool (not needed to use
+# motionfork, so setup.sh leaves it out). Installed here so that CI runs that test.
+if ! dpkg-query -W -f='${Status}' blender 2>/dev/null | grep -q "install ok installed"; then
+  echo "test: installing blender (test-only: BVH import check)"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends blender
+fi
 BUILD_DIR=${BUILD_DIR:-build}
 # Tests must not depend on a user's cache; give them their own.
 export MOTIONFORK_CACHE_DIR="$PWD/$BUILD_DIR/test-cache"

@@ -36,7 +36,8 @@ void AddConvertCommand(CLI::App& app, GlobalOptions& global) {
   auto o = std::make_shared<ConvertOptions>();
   CLI::App* cmd = app.add_subcommand(
       "convert",
-      "Convert a motion file between .bvh (read only), .npy [T, J, 3] and .csv (metres).\n"
+      "Convert a motion file between .bvh, .npy [T, J, 3] and .csv (metres). Writing .bvh fits joint\n"
+      "rotations to the positions (needs a skeleton with parents, e.g. --skeleton bandai).\n"
       "With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g. a 22-joint\n"
       "Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted\n"
       "with tools/videopose3d_to_motionfork.py.");

@@ -13,9 +13,17 @@ torch::Tensor BoneLengths(const torch::Tensor& poses, const torch::Tensor& paren
   return (poses - parents).norm(2, -1);
 }
 
-// Mean over frames and nodes of the squared distance: a [.., T, N, 3] vs b broadcastable.
-torch::Tensor SquaredError(const torch::Tensor& a, const torch::Tensor& b) {
-  return (a - b).pow(2).sum(-1).mean({-1, -2});
+// Reductions as in GSPS's released training code, which its loss weights are tuned for:
+// squared distance summed over the whole pose (nodes x 3), then
+//   PoseSquaredError: averaged over frames (history reconstruction);
+//   SequenceSquaredError: summed over frames too (best-of-many, pseudo multimodal futures).
+// a: [.., T, N, 3], b broadcastable.
+torch::Tensor PoseSquaredError(const torch::Tensor& a, const torch::Tensor& b) {
+  return (a - b).pow(2).sum({-1, -2}).mean(-1);
+}
+
+torch::Tensor SequenceSquaredError(const torch::Tensor& a, const torch::Tensor& b) {
+  return (a - b).pow(2).sum({-1, -2, -3});
 }
 
 }  // namespace
@@ -39,7 +47,7 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
     out.total = out.total.defined() ? out.total + weight * value : weight * value;
   };
 
-  add("past_reconstruction", SquaredError(past, truth_past).mean(), w.past_reconstruction);
+  add("past_reconstruction", PoseSquaredError(past, truth_past).mean(), w.past_reconstruction);
 
   std::vector<int64_t> parents = b.node_parents;
   std::vector<float> root_flag(N);
@@ -51,7 +59,8 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
   const torch::Tensor from_root = torch::tensor(root_flag).view({N, 1});
   const torch::Tensor truth_len = BoneLengths(b.truth.select(1, b.t_his - 1), parent_index, from_root);  // [Bh, N]
   const torch::Tensor pred_len = BoneLengths(pred, parent_index, from_root);                             // [Bh, K, T, N]
-  add("limb_length", (pred_len - truth_len.view({Bh, 1, 1, N})).pow(2).mean(), w.limb_length);
+  // Squared bone-length errors summed over the bones of a pose, averaged over poses (GSPS).
+  add("limb_length", (pred_len - truth_len.view({Bh, 1, 1, N})).pow(2).sum(-1).mean(), w.limb_length);
 
   // Diversity of each part among the samples that differ only in its own latent.
   int64_t before = 1;
@@ -74,13 +83,13 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
     before *= n;
   }
 
-  const torch::Tensor future_err = SquaredError(future, truth_future);  // [Bh, K]
+  const torch::Tensor future_err = SequenceSquaredError(future, truth_future);  // [Bh, K]
   add("best_of_many", std::get<0>(future_err.min(1)).mean(), w.best_of_many);
 
   if (b.pseudo.defined() && b.pseudo.size(1) > 0 && b.pseudo_mask.sum().item<float>() > 0) {
     const int64_t M = b.pseudo.size(1);
     // [Bh, M, K]: every pseudo future against every sample.
-    const torch::Tensor err = SquaredError(future.unsqueeze(1), b.pseudo.unsqueeze(2));
+    const torch::Tensor err = SequenceSquaredError(future.unsqueeze(1), b.pseudo.unsqueeze(2));
     const torch::Tensor best = std::get<0>(err.min(2));  // [Bh, M]
     add("multimodal", (best * b.pseudo_mask).sum() / b.pseudo_mask.sum(), w.multimodal);
     (void)M;
