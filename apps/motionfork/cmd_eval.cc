@@ -48,6 +48,7 @@ struct EvalCommandOptions {
   int k = 50;
   uint64_t seed = 0;
   std::string fix;
+  bool no_repair = false;
   std::string json;
   std::string constraints;  // "" = the protocol's shipped set when there is one; "none" = off
   std::string prior;        // "" = models/prior-<protocol> when shipped; "none" = off
@@ -168,7 +169,7 @@ std::unique_ptr<Predictor> MakePredictor(const EvalCommandOptions& o, const Prot
                                   ", t_pred " + std::to_string(p.t_pred) + ")");
     }
     const std::string name = mc.info.count("config") ? mc.info.at("config") : std::string("model");
-    return std::make_unique<GeneratorPredictor>(std::move(f), name, GeneratorBundleHash(o.model));
+    return std::make_unique<GeneratorPredictor>(std::move(f), name, GeneratorBundleHash(o.model), !o.no_repair);
   }
   const std::string name = CanonicalBaseline(o.baseline);
   if (name == "zero-velocity") {
@@ -444,6 +445,9 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--fix", o->fix,
                   "Controllable setting: a part of the skeleton's default partition (e.g. legs) "
                   "that every sample shares; reports the APD of the varied and the fixed joints");
+  cmd->add_flag("--no-repair", o->no_repair,
+                "With --model: score the network's raw futures, without moving poses that break the "
+                "bundle's angle ranges back inside them");
   cmd->add_option("--json", o->json, "Also write every figure to this JSON file");
   cmd->callback([o, &global] { RunEval(*o, global); });
 }

@@ -24,6 +24,7 @@ struct PredictOptions {
   int k = 50;
   std::vector<std::string> fix;
   uint64_t seed = 0;
+  bool no_repair = false;
   std::string out;
   MotionInputOptions input;
 };
@@ -60,6 +61,7 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
   req.k = o.k;
   req.seed = o.seed;
   req.fixed_parts = o.fix;
+  req.repair = !o.no_repair;
   const Forecast f = model.Predict(history, start, req);
 
   // Each sample: the history followed by its future, [K, t_his + t_pred, J, 3].
@@ -130,6 +132,9 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
                   "Body part whose latent all K futures share (e.g. legs: same legs, varied upper "
                   "body); repeat for several");
   cmd->add_option("--seed", o->seed, "Random seed: the same seed gives the same futures (default 0)");
+  cmd->add_flag("--no-repair", o->no_repair,
+                "Keep the network's raw futures: by default poses that break the bundle's angle "
+                "ranges (constraints.yaml) are moved back inside them, as little as it takes");
   cmd->add_option("-o,--out", o->out, "Output path (OUT.npy and OUT.json are written)")->required();
   AddMotionInputOptions(cmd, &o->input);
   cmd->callback([o, &global] { RunPredict(*o, global); });

@@ -16,7 +16,7 @@ using yaml_util::Fail;
 
 namespace {
 
-const char* const kTopKeys[] = {"name", "skeleton", "sides", "vectors", "constraints"};
+const char* const kTopKeys[] = {"name", "skeleton", "sides", "vectors", "constraints", "rigid"};
 const char* const kConstraintKeys[] = {"name", "per_side", "a", "b", "range", "note"};
 
 template <size_t N>
@@ -190,6 +190,21 @@ ConstraintSetSpec ParseRoot(const YAML::Node& root, const std::string& file,
     spec.right_token = sides[1].as<std::string>();
     if (spec.left_token.empty() || spec.left_token == spec.right_token) {
       Fail(file, sides, "'sides' needs two different, non-empty tokens");
+    }
+  }
+
+  if (const YAML::Node rigid = root["rigid"]) {
+    if (!rigid.IsSequence()) Fail(file, rigid, "'rigid' must be a list of joint lists, e.g. [[LHip, RHip, Spine]]");
+    for (const YAML::Node& group : rigid) {
+      if (!group.IsSequence() || group.size() < 1) {
+        Fail(file, group, "each 'rigid' entry must be a non-empty list of joint names");
+      }
+      std::vector<std::string> joints;
+      for (const YAML::Node& j : group) {
+        if (!j.IsScalar()) Fail(file, j, "a 'rigid' joint must be a joint name");
+        joints.push_back(j.as<std::string>());
+      }
+      spec.rigid.push_back(std::move(joints));
     }
   }
 
@@ -404,6 +419,14 @@ std::string FormatConstraintConfig(const ConstraintSetSpec& spec,
     out << "vectors:\n";
     for (const auto& [name, text] : spec.vectors)
       out << "  " << name << ": " << YamlString(text) << "\n";
+  }
+  if (!spec.rigid.empty()) {
+    out << "rigid:\n";
+    for (const std::vector<std::string>& group : spec.rigid) {
+      out << "  - [";
+      for (size_t i = 0; i < group.size(); ++i) out << (i ? ", " : "") << YamlString(group[i]);
+      out << "]\n";
+    }
   }
   out << "constraints:\n";
   for (const ConstraintSpec& c : spec.constraints) {

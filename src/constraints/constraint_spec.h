@@ -63,6 +63,10 @@ struct ConstraintSetSpec {
   std::string right_token = "R";
   std::vector<std::pair<std::string, std::string>> vectors;  // named vectors (name, text)
   std::vector<ConstraintSpec> constraints;
+  // Groups of joints whose layout relative to the root is the same in every frame of the data
+  // (e.g. the pelvis: both hips and the spine's base). Not checked as angles: predictions are put
+  // back on them (generator/pose_repair.h).
+  std::vector<std::vector<std::string>> rigid;
 };
 
 }  // namespace motionfork

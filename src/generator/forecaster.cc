@@ -3,8 +3,12 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <filesystem>
+
+#include "config/constraint_config.h"
 #include "generator/bundle.h"
 #include "generator/latents.h"
+#include "generator/pose_repair.h"
 
 namespace motionfork {
 
@@ -13,6 +17,7 @@ struct Forecaster::Impl {
   std::shared_ptr<const Skeleton> skeleton;
   PartPlan parts;
   GeneratorNet net{nullptr};
+  std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
 };
 
 Forecaster::Forecaster(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -25,12 +30,18 @@ Forecaster Forecaster::Load(const std::string& bundle_dir) {
   impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
   impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));
   impl->parts = MakePartPlan(*impl->skeleton, impl->config.generator.partition);
+  const std::filesystem::path constraints = std::filesystem::path(bundle_dir) / "constraints.yaml";
+  if (std::filesystem::is_regular_file(constraints)) {
+    impl->repair = std::make_unique<PoseRepair>(LoadConstraintConfig(constraints.string()), *impl->skeleton,
+                                                impl->parts);
+  }
   return Forecaster(std::move(impl));
 }
 
 const ModelConfig& Forecaster::config() const { return impl_->config; }
 const std::shared_ptr<const Skeleton>& Forecaster::skeleton() const { return impl_->skeleton; }
 const PartPlan& Forecaster::parts() const { return impl_->parts; }
+bool Forecaster::repairs() const { return impl_->repair != nullptr; }
 
 std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& histories,
                                                    int num_histories,
@@ -53,7 +64,18 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
   const torch::Tensor h =
       torch::from_blob(const_cast<float*>(histories.data()), {num_histories, g.t_his, N, 3}).clone();
   const auto z = SampleLatents(num_histories, request.k, g.nz, fixed, gen);
-  const torch::Tensor y = impl_->net->forward(h, z).slice(1, g.t_his).contiguous();  // [Bh*K, t_pred, N, 3]
+  torch::Tensor y = impl_->net->forward(h, z).slice(1, g.t_his).contiguous();  // [Bh*K, t_pred, N, 3]
+  if (request.repair && impl_->repair) {
+    // Root back at the origin for the angle ranges, then repaired, then without it again.
+    torch::Tensor poses = torch::cat({torch::zeros({y.size(0) * g.t_pred, 1, 3}), y.view({-1, N, 3})}, 1);
+    // Each pose's reference layout: its history's last frame.
+    const torch::Tensor last = h.select(1, g.t_his - 1);  // [Bh, N, 3]
+    const torch::Tensor templates = torch::cat({torch::zeros({num_histories, 1, 3}), last}, 1)
+                                        .repeat_interleave(static_cast<int64_t>(request.k) * g.t_pred, 0)
+                                        .contiguous();
+    impl_->repair->Repair(poses, templates, fixed);
+    y = poses.slice(1, 1).contiguous();
+  }
   return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
 }
 

@@ -2,7 +2,8 @@
 // this header: apps, the evaluation and embedding programs use it as plain C++.
 //
 // Bundle (a folder): model.yaml (protocol, sizes, skeleton with parts; see config/model_config.h)
-// and generator.pt (LibTorch weights and batch-norm statistics).
+// and generator.pt (LibTorch weights and batch-norm statistics); optionally constraints.yaml (the
+// angle ranges predictions are repaired to) and prior/ (the pose prior, for validity figures).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +21,10 @@ struct ForecastRequest {
   int k = 50;                            // futures per history
   uint64_t seed = 0;                     // same seed, same futures
   std::vector<std::string> fixed_parts;  // parts whose latent is shared by all K futures
+  // Move predicted poses that break the bundle's angle ranges (constraints.yaml, when it has one)
+  // back inside them, as little as it takes (generator/pose_repair.h). false: the raw network
+  // output.
+  bool repair = true;
 };
 
 struct Forecast {
@@ -42,6 +47,8 @@ class Forecaster {
   const ModelConfig& config() const;
   const std::shared_ptr<const Skeleton>& skeleton() const;
   const PartPlan& parts() const;
+  // True when the bundle carries constraints.yaml, so predictions can be repaired to its ranges.
+  bool repairs() const;
 
   // history: the model's skeleton (same joint names and parents) at the model's frame rate, at
   // least t_his frames from `start`; frames [start, start + t_his) are used. Throws

@@ -9,19 +9,21 @@
 
 namespace motionfork {
 
-GeneratorPredictor::GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash)
-    : forecaster_(std::move(forecaster)), name_(std::move(name)), hash_(std::move(bundle_hash)) {}
+GeneratorPredictor::GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash, bool repair)
+    : forecaster_(std::move(forecaster)), name_(std::move(name)), hash_(std::move(bundle_hash)), repair_(repair) {}
 
 std::string GeneratorPredictor::description() const {
   const GeneratorOptions& g = forecaster_.config().generator;
   return "GSPS-style generator (" + forecaster_.config().protocol + ", n_pre " + std::to_string(g.n_pre) +
-         ", hidden " + std::to_string(g.hidden) + ", " + std::to_string(forecaster_.parts().num_parts()) + " parts)";
+         ", hidden " + std::to_string(g.hidden) + ", " + std::to_string(forecaster_.parts().num_parts()) + " parts" +
+         (forecaster_.repairs() ? (repair_ ? ", angle-range repair on" : ", angle-range repair off") : "") + ")";
 }
 
 void GeneratorPredictor::DoPredict(const float* history, const PredictRequest& request, float* futures) {
   ForecastRequest req;
   req.k = request.num_samples;
   req.seed = request.seed;
+  req.repair = repair_;
   if (request.fixed_part >= 0) req.fixed_parts = {forecaster_.parts().names.at(request.fixed_part)};
   const std::vector<float> y = forecaster_.PredictWorld(history, req);
   std::copy(y.begin(), y.end(), futures);

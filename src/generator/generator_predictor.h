@@ -11,8 +11,9 @@ namespace motionfork {
 
 class GeneratorPredictor : public Predictor {
  public:
-  // bundle_hash: identity of the weights (e.g. a hash of generator.pt) for reports.
-  GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash);
+  // bundle_hash: identity of the weights (e.g. a hash of generator.pt) for reports. repair: the
+  // forecaster's angle-range repair (ForecastRequest::repair).
+  GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash, bool repair = true);
 
   std::string name() const override { return name_; }
   std::string description() const override;
@@ -29,6 +30,7 @@ class GeneratorPredictor : public Predictor {
  private:
   Forecaster forecaster_;
   std::string name_, hash_;
+  bool repair_ = true;
 };
 
 // A short hash of a bundle's weights file (FNV-1a 64 of generator.pt, hex).
