@@ -1,25 +1,53 @@
 #!/usr/bin/env bash
-# First run: set everything up, then show what motionfork does on real motion capture.
-# (Until the first model ships, the main job is a data summary: one clip, then the Bandai set.)
+# First run: set everything up, then predict futures with the shipped Bandai model and draw them.
+#   bash scripts/quickstart.sh                 # built-in history (a synthetic walk the project makes)
+#   bash scripts/quickstart.sh my_motion.bvh   # your own history (.bvh, .npy or .csv; its last
+#                                              # 0.5 s is the history; Bandai 22- or 17-joint skeleton)
+# Outputs go to build/demo/ (DEMO_DIR=... to change); the paths are printed at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-MF=${BUILD_DIR:-build}/apps/motionfork/motionfork
-DATA=${MOTIONFORK_BANDAI:-../shared/data/bandai}
-if [ ! -d "$DATA" ]; then
-  echo "quickstart: no Bandai data at $DATA (set MOTIONFORK_BANDAI=/path/to/folder with the archives)" >&2
-  exit 2
-fi
-DEMO=${BUILD_DIR:-build}/demo
+BUILD_DIR=${BUILD_DIR:-build}
+MF=$BUILD_DIR/apps/motionfork/motionfork
+MODEL=${MOTIONFORK_MODEL:-models/bandai}
+DEMO=${DEMO_DIR:-$BUILD_DIR/demo}
 mkdir -p "$DEMO"
-CLIP=dataset-1_walk_normal_001.bvh
-if [ ! -f "$DEMO/$CLIP" ]; then
-  tar -xJf "$DATA/bandai-1.tar.xz" -C "$DEMO" --strip-components=2 --wildcards "*/data/$CLIP"
+
+step() { echo; echo "== $*"; }
+
+if [ $# -ge 1 ]; then
+  HISTORY=$1
+  [ -f "$HISTORY" ] || { echo "quickstart: no such file: $HISTORY" >&2; exit 2; }
+else
+  HISTORY=$DEMO/history.csv
+  step "motionfork synth walk: a built-in history (simple gait model, no dataset involved)"
+  "$MF" synth walk --frames 30 -o "$HISTORY"
 fi
-echo; echo "== motionfork info $DEMO/$CLIP"
-"$MF" info "$DEMO/$CLIP"
-echo; echo "== motionfork convert (22-joint BVH -> 17-joint Bandai protocol skeleton, .npy)"
-"$MF" convert "$DEMO/$CLIP" "$DEMO/walk.npy" --skeleton bandai
-"$MF" info "$DEMO/walk.npy" --skeleton bandai
-echo; echo "== motionfork dataset stats --protocol bandai --data $DATA"
-"$MF" dataset stats --protocol bandai --data "$DATA"
+
+step "motionfork predict: 50 futures of the last 0.5 s of $HISTORY"
+"$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 -o "$DEMO/futures"
+
+step "motionfork predict --fix legs: the same legs in all 50 futures, varied upper bodies"
+"$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 --fix legs -o "$DEMO/same-legs"
+
+step "motionfork check: angle ranges of the history itself"
+# Exit status 1 means some frame is outside a range: a finding, not a failure.
+"$MF" check "$HISTORY" --constraints "$MODEL/constraints.yaml" --skeleton bandai --worst 3 ||
+  { rc=$?; [ "$rc" -eq 1 ] || exit "$rc"; }
+
+step "motionfork render: pictures"
+"$MF" render "$DEMO/futures.json" --samples 5 -o "$DEMO/futures.png"
+"$MF" render "$DEMO/futures.json" --overlay --samples 50 -o "$DEMO/futures-overlay.png"
+"$MF" render "$DEMO/same-legs.json" --samples 5 -o "$DEMO/same-legs.png"
+"$MF" render "$DEMO/futures.json" -o "$DEMO/futures.html"
+
+step "motionfork export: future 0 as BVH (open it in Blender, Maya, MotionBuilder)"
+"$MF" export "$DEMO/futures.json" --sample 0 -o "$DEMO/future_00.bvh"
+
+echo
+echo "quickstart: done. Results in $DEMO:"
+for f in futures.npy futures.json same-legs.npy same-legs.json futures.png futures-overlay.png \
+         same-legs.png futures.html future_00.bvh; do
+  echo "  $DEMO/$f"
+done
+echo "Open the .png files in an image viewer and futures.html in a browser (it plays offline)."

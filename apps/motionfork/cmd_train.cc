@@ -134,6 +134,12 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   };
   cb.message = [](const std::string& m) { std::printf("%s\n", m.c_str()); };
   const TrainSummary s = TrainGenerator(cfg, model, data, o.out, hooks, cb, o.stop_after);
+  if (s.first_epoch >= cfg.training.epochs) {
+    std::printf("all %d epochs were trained already; bundle: %s (constraints.yaml and prior/ copied again), log: "
+                "%s/log.csv\n",
+                cfg.training.epochs, o.out.c_str(), o.out.c_str());
+    return;
+  }
   std::printf("trained epochs %d..%d in %s; bundle: %s (model.yaml, generator.pt), log: %s/log.csv\n",
               s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), o.out.c_str(), o.out.c_str());
 }
