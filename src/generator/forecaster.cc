@@ -1,5 +1,6 @@
 #include "generator/forecaster.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -64,7 +65,20 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
   const torch::Tensor h =
       torch::from_blob(const_cast<float*>(histories.data()), {num_histories, g.t_his, N, 3}).clone();
   const auto z = SampleLatents(num_histories, request.k, g.nz, fixed, gen);
-  torch::Tensor y = impl_->net->forward(h, z).slice(1, g.t_his).contiguous();  // [Bh*K, t_pred, N, 3]
+  // Histories in chunks of about kChunkSamples samples: the activations of a chunk stay in the
+  // core's cache (16 x 50 samples at once ran 1.5x slower per history than one history at a
+  // time). Each sample's future does not depend on the chunking (batch norm uses its running
+  // statistics at inference), and the latents are drawn for all histories first.
+  constexpr int64_t kChunkSamples = 64;
+  const int64_t chunk = std::max<int64_t>(1, kChunkSamples / request.k);
+  std::vector<torch::Tensor> parts_out;
+  for (int64_t first = 0; first < num_histories; first += chunk) {
+    const int64_t n = std::min<int64_t>(chunk, num_histories - first);
+    std::vector<torch::Tensor> zc;
+    for (const torch::Tensor& zp : z) zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
+    parts_out.push_back(impl_->net->forward(h.slice(0, first, first + n), zc).slice(1, g.t_his));
+  }
+  torch::Tensor y = (parts_out.size() == 1 ? parts_out[0] : torch::cat(parts_out, 0)).contiguous();  // [Bh*K, t_pred, N, 3]
   if (request.repair && impl_->repair) {
     // Root back at the origin for the angle ranges, then repaired, then without it again.
     torch::Tensor poses = torch::cat({torch::zeros({y.size(0) * g.t_pred, 1, 3}), y.view({-1, N, 3})}, 1);
