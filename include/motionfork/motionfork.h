@@ -63,6 +63,10 @@ struct PredictOptions {
   // future; a later part also depends on the parts before it, so its joints are identical only
   // when those are fixed too.
   std::vector<std::string> fixed_parts;
+  // When the bundle carries constraints.yaml: predicted poses that break its angle ranges (or its
+  // rigid groups, e.g. the pelvis) are moved back, as little as it takes; false keeps the raw
+  // network output. Fixed parts stay identical across futures either way.
+  bool repair = true;
 };
 
 // K futures of one history.

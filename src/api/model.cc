@@ -188,6 +188,7 @@ Futures Model::Predict(const std::vector<float>& history, const PredictOptions& 
   request.k = options.k;
   request.seed = options.seed;
   request.fixed_parts = options.fixed_parts;
+  request.repair = options.repair;
   Forecast f = impl_->forecaster.Predict(motion, motion.num_frames() - history_frames(), request);
   Futures out;
   out.k = f.k;
