@@ -16,6 +16,7 @@
 #include "generator/generator_net.h"
 #include "torch_util/threads.h"
 #include "torch_util/blas_core.h"
+#include "torch_util/malloc_tuning.h"
 
 using namespace motionfork;
 
@@ -38,6 +39,7 @@ double MacsPerSample(const GeneratorOptions& o, int parts) {
 
 int main(int argc, char** argv) {
   motionfork::UseFastBlasKernels(argv);
+  motionfork::KeepFreedMemory();
   int threads = 1;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);

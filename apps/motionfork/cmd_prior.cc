@@ -1,5 +1,4 @@
 // motionfork prior train|score|sample: the pose prior (GSPS normalizing flow on limb directions).
-#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -66,14 +65,6 @@ struct SampleOptions {
   int steps = 1000;
 };
 
-// glibc returns freed tensor-sized blocks (hundreds of KB) to the kernel and maps them again on
-// the next allocation, so every new tensor pays page faults: log_prob of 4,096 poses takes 5.6 ms
-// instead of 1.7 ms. Keep freed memory in the process (this process only; apps may decide this,
-// libraries may not).
-void KeepFreedMemory() {
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-}
 
 std::string Fmt(const char* format, double v) {
   char buf[64];
@@ -96,7 +87,6 @@ std::string JsonEscape(const std::string& s) {
 // train
 
 void RunTrain(const TrainOptions& o, GlobalOptions& g) {
-  KeepFreedMemory();
   const std::string config_dir = ConfigDir(g.config_dir);
   const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
   const PriorConfig config = LoadFlowConfig(config_path);
@@ -271,7 +261,6 @@ Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
 }
 
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
-  KeepFreedMemory();
   const PosePrior prior = PosePrior::Load(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
   const LoadedMotion lm = LoadMotionInput(o.file, o.input, config_dir);
@@ -337,7 +326,6 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
 // sample
 
 void RunSample(const SampleOptions& o, const GlobalOptions& g) {
-  KeepFreedMemory();
   FormatOfPath(o.output);  // fail on an unsupported extension before any work
   const PosePrior prior = PosePrior::Load(o.model);
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;

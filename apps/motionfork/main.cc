@@ -9,9 +9,11 @@
 #include "commands.h"
 #include "core/error.h"
 #include "torch_util/blas_core.h"
+#include "torch_util/malloc_tuning.h"
 
 int main(int argc, char** argv) {
   motionfork::UseFastBlasKernels(argv);  // OpenBLAS's fast kernels on CPUs it does not know
+  motionfork::KeepFreedMemory();         // no page faults on every new tensor
   using namespace motionfork::app;
   CLI::App app{"motionfork " MOTIONFORK_VERSION
                ": diverse, controllable human motion prediction.\n"
