@@ -110,7 +110,7 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
   CHECK(a.futures == b.futures);
   req.seed = 12;
   CHECK(f.Predict(history, 0, req).futures != a.futures);
-  for (const std::string& part : {"legs", "upper"}) {
+  for (const std::string part : {"legs", "upper"}) {
     req.fixed_parts = {part};
     const Forecast c = f.Predict(history, 0, req);
     const PartPlan& plan = f.parts();
