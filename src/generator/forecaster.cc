@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-
 #include <filesystem>
+#include <stdexcept>
 
 #include "config/constraint_config.h"
 #include "generator/bundle.h"

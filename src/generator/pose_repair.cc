@@ -202,14 +202,12 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
   for (int p : order) {
     const std::set<int>& own = m.part_joints[p];
     RigidStage(m, poses, templates, decided, own, fixed.at(p));
-    std::set<int> allowed = decided;
-    allowed.insert(own.begin(), own.end());
-    decided = allowed;
+    decided.insert(own.begin(), own.end());  // joints a constraint of this part may read
     std::vector<float> active(m.constraint_joints.size(), 0.0f);
     bool any = false;
     for (size_t c = 0; c < active.size(); ++c) {
       const std::set<int>& js = m.constraint_joints[c];
-      const bool inside = std::includes(allowed.begin(), allowed.end(), js.begin(), js.end());
+      const bool inside = std::includes(decided.begin(), decided.end(), js.begin(), js.end());
       const bool touches = std::any_of(js.begin(), js.end(), [&](int j) { return own.count(j) > 0; });
       if (inside && touches) active[c] = 1.0f, any = true;
     }
@@ -232,7 +230,6 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
     const torch::Tensor lengths = BoneLengths(start, m.bone_child, m.bone_parent);
     torch::Tensor x = start.clone().requires_grad_(true);
     torch::optim::Adam adam({x}, torch::optim::AdamOptions(o.step_m));
-    torch::Tensor still = torch::ones({start.size(0)}, torch::kBool);
     for (int step = 1; step <= o.max_steps; ++step) {
       const torch::Tensor loss = o.angle_weight * (m.narrowed->PerConstraint(x) * mask).sum() +
                                  (x - start).pow(2).sum() +
@@ -246,8 +243,7 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
       adam.step();
       if (step % o.check_every == 0 || step == o.max_steps) {
         torch::NoGradGuard no_grad;
-        still = (m.original->PerConstraint(x) * mask).sum(-1) > 0;
-        if (!still.any().item<bool>()) break;
+        if (!((m.original->PerConstraint(x) * mask).sum(-1) > 0).any().item<bool>()) break;
       }
     }
     torch::NoGradGuard no_grad;
@@ -255,10 +251,16 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
     const int64_t* idx = selected.data_ptr<int64_t>();
     for (int64_t i = 0; i < selected.numel(); ++i) repaired[idx[i]] = 1;
   }
-  for (char r : repaired) stats.repaired += r;
-  if (stats.repaired > 0) {
+  // Only repaired poses can still break a range: the others broke none in any part's check, and
+  // each part moves only its own joints, whose constraints that part checked.
+  std::vector<int64_t> touched;
+  for (size_t i = 0; i < repaired.size(); ++i)
+    if (repaired[i]) touched.push_back(static_cast<int64_t>(i));
+  stats.repaired = static_cast<long long>(touched.size());
+  if (!touched.empty()) {
     torch::NoGradGuard no_grad;
-    stats.still_broken = (m.original->PerConstraint(poses).sum(-1) > 0).sum().item<int64_t>();
+    const torch::Tensor moved = poses.index_select(0, torch::tensor(touched, torch::kLong));
+    stats.still_broken = (m.original->PerConstraint(moved).sum(-1) > 0).sum().item<int64_t>();
   }
   return stats;
 }
