@@ -1,5 +1,7 @@
 // motionfork predict: K futures of a history with a trained model bundle.
+#include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -9,6 +11,9 @@
 #include "core/error.h"
 #include "core/resample.h"
 #include "generator/forecaster.h"
+#include "hgvae_input.h"
+#include "imputation/hgvae_model.h"
+#include "imputation/motion_imputation.h"
 #include "io/file_util.h"
 #include "io/prediction_file.h"
 #include "motion_options.h"
@@ -25,6 +30,8 @@ struct PredictOptions {
   std::vector<std::string> fix;
   uint64_t seed = 0;
   bool no_repair = false;
+  std::string impute;               // HG-VAE bundle filling the history's missing values
+  std::vector<std::string> masks;   // extra missing values (--mask), with --impute
   std::string out;
   MotionInputOptions input;
 };
@@ -32,18 +39,11 @@ struct PredictOptions {
 void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
   const Forecaster model = Forecaster::Load(o.model);
   const ModelConfig& mc = model.config();
-  // Read the history; put it on the model's skeleton (by names, or through --skeleton's selection).
-  LoadedMotion lm = LoadMotionInput(o.history, o.input, ConfigDir(g.config_dir));
-  SkeletonConfig onto;
-  onto.skeleton = model.skeleton();
-  onto.source = lm.skeleton_config ? lm.skeleton_config->source : model.skeleton();
-  if (lm.skeleton_config) onto.selection = lm.skeleton_config->selection;
-  Motion history = ConformToSkeleton(lm.motion, onto);
-  history = Motion(model.skeleton(), history.fps(), history.positions());
-  if (std::abs(history.fps() - mc.fps) > 1e-6 * mc.fps) {
-    std::fprintf(stderr, "note: resampling the history from %.6g Hz to the model's %.6g Hz\n", history.fps(), mc.fps);
-    history = Resample(history, mc.fps);
-  }
+  // Read the history (missing values allowed); put it on the model's skeleton and frame rate.
+  if (o.impute.empty() && !o.masks.empty()) throw FormatError("--mask needs --impute (an HG-VAE bundle to fill the values)");
+  MotionWithGaps gaps = LoadMotionWithGaps(o.history, o.input, ConfigDir(g.config_dir), model.skeleton(), mc.fps,
+                                           o.masks, o.seed);
+  Motion history = gaps.motion;
   const int t_his = mc.generator.t_his;
   const int frames = history.num_frames();
   if (frames < t_his || (o.start >= 0 && o.start + t_his > frames)) {
@@ -57,6 +57,38 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
                       "; the motion has " + std::to_string(frames) + " frames");
   }
   const int start = o.start >= 0 ? o.start : frames - t_his;
+  const size_t frame_values = static_cast<size_t>(history.num_joints()) * 3;
+  std::vector<uint8_t> missing(gaps.missing.begin() + start * frame_values,
+                               gaps.missing.begin() + (start + t_his) * frame_values);
+  const int num_missing = static_cast<int>(std::count(missing.begin(), missing.end(), 1));
+  std::optional<HistoryImputation> imputation;
+  if (num_missing > 0) {
+    if (o.impute.empty()) {
+      throw FormatError(o.history + ": the history (frames " + std::to_string(start) + ".." +
+                        std::to_string(start + t_his - 1) + ") has " + std::to_string(num_missing) +
+                        " missing values; pass --impute DIR (an HG-VAE bundle, e.g. models/bandai/hgvae) to fill them");
+    }
+    const HgvaeModel hg = HgvaeModel::Load(o.impute);
+    if (hg.skeleton().joint_names() != model.skeleton()->joint_names() || hg.window() != t_his ||
+        std::abs(hg.manifest().fps - mc.fps) > 1e-6 * mc.fps) {
+      throw FormatError(o.impute + ": the HG-VAE (skeleton '" + hg.skeleton().name() + "', windows of " +
+                        std::to_string(hg.window()) + " frames at " + std::to_string(hg.manifest().fps) +
+                        " Hz) does not match the forecaster's history (" + std::to_string(t_his) + " frames at " +
+                        std::to_string(mc.fps) + " Hz, skeleton '" + model.skeleton()->name() + "')");
+    }
+    MotionImputation r;
+    try {
+      r = ImputeMotion(hg, history.Slice(start, start + t_his), missing, hg.manifest().impute);
+    } catch (const std::invalid_argument& e) {
+      throw FormatError(o.history + ": " + e.what());
+    }
+    std::vector<float> pos = history.positions();
+    std::copy(r.motion.positions().begin(), r.motion.positions().end(), pos.begin() + start * frame_values);
+    history = Motion(history.skeleton_ptr(), history.fps(), std::move(pos));
+    imputation = HistoryImputation{o.impute, num_missing, r.score_before.at(0), r.score_after.at(0)};
+    std::printf("imputed %d missing history values with %s (posterior score %.1f -> %.1f)\n", num_missing,
+                o.impute.c_str(), imputation->score_before, imputation->score_after);
+  }
   ForecastRequest req;
   req.k = o.k;
   req.seed = o.seed;
@@ -77,6 +109,7 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
   p.fps = f.fps;
   p.skeleton = model.skeleton();
   p.fixed_parts = o.fix;
+  p.imputation = imputation;
   const size_t future_size = static_cast<size_t>(f.t_pred) * f.joints * 3;
   for (int k = 0; k < f.k; ++k) {
     p.positions.insert(p.positions.end(), f.history.begin(), f.history.end());
@@ -135,6 +168,12 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--no-repair", o->no_repair,
                 "Keep the network's raw futures: by default poses that break the bundle's angle "
                 "ranges (constraints.yaml) are moved back inside them, as little as it takes");
+  cmd->add_option("--impute", o->impute,
+                  "HG-VAE bundle (e.g. models/bandai/hgvae) filling the history's missing values: NaN in .npy, "
+                  "empty or nan fields in .csv, and --mask");
+  cmd->add_option("--mask", o->masks,
+                  "With --impute: values to treat as missing, repeatable: random:SHARE, joints:A,B or "
+                  "joints:A,B@FIRST-LAST");
   cmd->add_option("-o,--out", o->out, "Output path (OUT.npy and OUT.json are written)")->required();
   AddMotionInputOptions(cmd, &o->input);
   cmd->callback([o, &global] { RunPredict(*o, global); });

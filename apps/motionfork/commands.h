@@ -24,5 +24,6 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
 void AddExportCommand(CLI::App& app, GlobalOptions& global);
 void AddRenderCommand(CLI::App& app, GlobalOptions& global);
 void AddSynthCommand(CLI::App& app, GlobalOptions& global);
+void AddHgvaeCommand(CLI::App& app, GlobalOptions& global);  // hgvae train|sample|eval, impute, ood
 
 }  // namespace motionfork::app

@@ -7,6 +7,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "hgvae_commands.h"
 #include "core/error.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
@@ -39,6 +40,9 @@ int main(int argc, char** argv) {
   AddExportCommand(app, global);
   AddRenderCommand(app, global);
   AddSynthCommand(app, global);
+  AddHgvaeCommand(app, global);
+  AddImputeCommand(app, global);
+  AddOodCommand(app, global);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -14,41 +14,9 @@ using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
 
-YAML::Node LoadText(const std::string& text, const std::string& source) {
-  try {
-    YAML::Node root = YAML::Load(text);
-    if (!root.IsMap())
-      throw FormatError(FormatMessage(source, "", "expected a YAML mapping at the top level"));
-    return root;
-  } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(source, "line " + std::to_string(e.mark.line + 1), e.msg));
-  }
-}
-
-// Rejects keys outside `known` (typos would otherwise silently keep a default).
-void CheckKeys(const std::string& file, const YAML::Node& map, const std::string& section,
-               const std::set<std::string>& known) {
-  for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
-    if (known.count(key)) continue;
-    std::string list;
-    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-    Fail(file, kv.first,
-         "unknown key '" + (section.empty() ? key : section + "." + key) + "' (known: " + list +
-             ")");
-  }
-}
-
-YAML::Node Section(const std::string& file, const YAML::Node& root, const std::string& key,
-                   bool required) {
-  const YAML::Node n = root[key];
-  if (!n || n.IsNull()) {
-    if (required) Fail(file, root, "missing mapping '" + key + "'");
-    return YAML::Node(YAML::NodeType::Map);
-  }
-  if (!n.IsMap()) Fail(file, n, "key '" + key + "' must be a mapping");
-  return n;
-}
+using yaml_util::CheckKeys;
+using yaml_util::LoadText;
+using yaml_util::Section;
 
 void ParseModel(const std::string& file, const YAML::Node& n, FlowOptions* o) {
   CheckKeys(file, n, "model", {"layers", "reflections", "prelu_init"});

@@ -1,5 +1,6 @@
 #include "config/model_config.h"
 
+#include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
 
 namespace motionfork {
@@ -35,24 +36,7 @@ ModelConfig LoadModelConfig(const std::string& path) {
     g.dropout = GetOr<double>(path, n, "dropout", 0.0);
     g.partition = Get<std::string>(path, n, "partition");
     ValidateGeneratorOptions(g);
-    const YAML::Node s = root["skeleton"];
-    if (!s) Fail(path, root, "missing mapping 'skeleton'");
-    c.skeleton.name = Get<std::string>(path, s, "name");
-    for (const YAML::Node& j : s["joints"]) {
-      c.skeleton.joint_names.push_back(j[0].as<std::string>());
-      c.skeleton.parent_names.push_back(j[1].IsNull() ? "" : j[1].as<std::string>());
-    }
-    for (const YAML::Node& lr : s["left_right"]) {
-      c.skeleton.left_right.emplace_back(lr[0].as<std::string>(), lr[1].as<std::string>());
-    }
-    for (const YAML::Node& pn : s["partitions"]) {
-      PartitionSpec ps{Get<std::string>(path, pn, "name"), {}};
-      for (const YAML::Node& part : pn["parts"]) {
-        ps.parts.push_back(PartSpec{Get<std::string>(path, part, "name"),
-                                    yaml_util::StringList(path, part["joints"], "joints"), {}, false});
-      }
-      c.skeleton.partitions.push_back(std::move(ps));
-    }
+    c.skeleton = ParseSkeletonSpec(path, root);
     if (const YAML::Node info = root["info"]) {
       for (const auto& kv : info) c.info[kv.first.as<std::string>()] = kv.second.as<std::string>();
     }
@@ -85,34 +69,7 @@ std::string ModelConfigToYaml(const ModelConfig& c) {
   out << YAML::Key << "dropout" << YAML::Value << g.dropout;
   out << YAML::Key << "partition" << YAML::Value << g.partition;
   out << YAML::EndMap;
-  out << YAML::Key << "skeleton" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "name" << YAML::Value << c.skeleton.name;
-  out << YAML::Key << "joints" << YAML::Value << YAML::BeginSeq;
-  for (size_t j = 0; j < c.skeleton.joint_names.size(); ++j) {
-    out << YAML::Flow << YAML::BeginSeq << c.skeleton.joint_names[j];
-    if (c.skeleton.parent_names[j].empty()) {
-      out << YAML::Null;
-    } else {
-      out << c.skeleton.parent_names[j];
-    }
-    out << YAML::EndSeq;
-  }
-  out << YAML::EndSeq;
-  out << YAML::Key << "left_right" << YAML::Value << YAML::BeginSeq;
-  for (const auto& [l, r] : c.skeleton.left_right) out << YAML::Flow << YAML::BeginSeq << l << r << YAML::EndSeq;
-  out << YAML::EndSeq;
-  out << YAML::Key << "partitions" << YAML::Value << YAML::BeginSeq;
-  for (const PartitionSpec& p : c.skeleton.partitions) {
-    out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << p.name;
-    out << YAML::Key << "parts" << YAML::Value << YAML::BeginSeq;
-    for (const PartSpec& part : p.parts) {
-      out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << part.name;
-      out << YAML::Key << "joints" << YAML::Value << YAML::Flow << part.joints << YAML::EndMap;
-    }
-    out << YAML::EndSeq << YAML::EndMap;
-  }
-  out << YAML::EndSeq;
-  out << YAML::EndMap;
+  EmitSkeletonSpec(out, c.skeleton);
   out << YAML::Key << "info" << YAML::Value << YAML::BeginMap;
   for (const auto& [k, v] : c.info) out << YAML::Key << k << YAML::Value << v;
   out << YAML::EndMap;

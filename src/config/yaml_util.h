@@ -4,6 +4,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,43 @@ inline std::vector<std::string> StringList(const std::string& file, const YAML::
     out.push_back(e.as<std::string>());
   }
   return out;
+}
+
+// YAML text (not a file) as a mapping; source names it in errors.
+inline YAML::Node LoadText(const std::string& text, const std::string& source) {
+  try {
+    YAML::Node root = YAML::Load(text);
+    if (!root.IsMap())
+      throw FormatError(FormatMessage(source, "", "expected a YAML mapping at the top level"));
+    return root;
+  } catch (const YAML::Exception& e) {
+    throw FormatError(FormatMessage(source, "line " + std::to_string(e.mark.line + 1), e.msg));
+  }
+}
+
+// Rejects keys outside `known` (typos would otherwise silently keep a default).
+inline void CheckKeys(const std::string& file, const YAML::Node& map, const std::string& section,
+               const std::set<std::string>& known) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key)) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    Fail(file, kv.first,
+         "unknown key '" + (section.empty() ? key : section + "." + key) + "' (known: " + list +
+             ")");
+  }
+}
+
+inline YAML::Node Section(const std::string& file, const YAML::Node& root, const std::string& key,
+                   bool required) {
+  const YAML::Node n = root[key];
+  if (!n || n.IsNull()) {
+    if (required) Fail(file, root, "missing mapping '" + key + "'");
+    return YAML::Node(YAML::NodeType::Map);
+  }
+  if (!n.IsMap()) Fail(file, n, "key '" + key + "' must be a mapping");
+  return n;
 }
 
 }  // namespace motionfork::yaml_util

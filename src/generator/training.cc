@@ -10,7 +10,7 @@
 #include "bodyparts/part_plan.h"
 #include "generator/bundle.h"
 #include "generator/latents.h"
-#include "io/file_util.h"
+#include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
 
 namespace motionfork {
@@ -54,19 +54,6 @@ double LearningRate(const TrainingOptions& t, int epoch) {
   return t.learning_rate * (1.0 - static_cast<double>(epoch - t.lr_constant_epochs) / std::max(1, decay));
 }
 
-template <typename T>
-std::string Serialize(T& obj) {
-  std::ostringstream s;
-  torch::save(obj, s);
-  return s.str();
-}
-
-template <typename T>
-void Deserialize(T& obj, const std::string& path) {
-  std::istringstream in(ReadFileBytes(path));
-  torch::load(obj, in);
-}
-
 }  // namespace
 
 TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfig& model,
@@ -88,12 +75,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   fs::create_directories(ckpt);
 
   TrainSummary summary;
-  if (fs::is_regular_file(ckpt / "state.pt")) {
-    torch::Tensor epoch_tensor;
-    Deserialize(epoch_tensor, (ckpt / "state.pt").string());
-    Deserialize(net, (ckpt / "generator.pt").string());
-    Deserialize(adam, (ckpt / "optimizer.pt").string());
-    summary.first_epoch = static_cast<int>(epoch_tensor.item<int64_t>());
+  summary.first_epoch = LoadCheckpoint(ckpt.string(), "generator.pt", *net, adam);
+  if (summary.first_epoch > 0) {
     if (cb.message) cb.message("resuming from " + ckpt.string() + " at epoch " + std::to_string(summary.first_epoch + 1));
   }
 
@@ -169,10 +152,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     // Bundle first, then the checkpoint that marks the epoch as done.
     SaveGeneratorBundle(out_dir, model, net);
     net->train();
-    WriteFileAtomically((ckpt / "generator.pt").string(), Serialize(net));
-    WriteFileAtomically((ckpt / "optimizer.pt").string(), Serialize(adam));
-    torch::Tensor done = torch::tensor(static_cast<int64_t>(epoch + 1));
-    WriteFileAtomically((ckpt / "state.pt").string(), Serialize(done));
+    SaveCheckpoint(ckpt.string(), "generator.pt", *net, adam, epoch + 1);
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(epoch, sums, seconds);
   }

@@ -277,8 +277,13 @@ void ParseComment(const Line& line, const std::string& source, Metadata* meta) {
   }
 }
 
+// A missing value in a CSV motion: an empty field, "nan" or "NaN" (as numpy and pandas write it).
+bool IsMissingField(std::string_view f) { return f.empty() || f == "nan" || f == "NaN" || f == "NAN"; }
+
 Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
-                      std::shared_ptr<const Skeleton> skeleton, double fallback_fps) {
+                      std::shared_ptr<const Skeleton> skeleton, double fallback_fps,
+                      std::vector<uint8_t>* missing) {
+  if (missing) missing->clear();
   if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);  // UTF-8 byte order mark
   const std::vector<Line> lines = SplitLines(bytes);
   Metadata meta;
@@ -317,9 +322,15 @@ Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
               std::to_string(header_line.number) + "), found " + std::to_string(fields.size())));
     }
     positions.resize(positions.size() + per_frame);
+    if (missing) missing->resize(positions.size(), 0);
     float* frame = positions.data() + frames * per_frame;
     for (size_t c = 0; c < fields.size(); ++c) {
       const std::string_view f = Trim(fields[c]);
+      if (missing && IsMissingField(f)) {
+        (*missing)[frames * per_frame + static_cast<size_t>(columns[c].joint) * 3 + columns[c].axis] = 1;
+        frame[static_cast<size_t>(columns[c].joint) * 3 + columns[c].axis] = 0.0f;
+        continue;
+      }
       float value = 0;
       const NumberStatus status = ParseFloat(f, &value);
       value *= meta.scale;
@@ -368,8 +379,8 @@ void AppendNumber(std::string* out, float value) {
 }  // namespace
 
 Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton,
-                     double fps) {
-  return ParseCsvMotion(ReadFileBytes(path), path, std::move(skeleton), fps);
+                     double fps, std::vector<uint8_t>* missing) {
+  return ParseCsvMotion(ReadFileBytes(path), path, std::move(skeleton), fps, missing);
 }
 
 void WriteCsvMotion(const std::string& path, const Motion& motion) {

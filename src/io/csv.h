@@ -8,17 +8,21 @@
 // order), or builds an anonymous skeleton from them when none is given.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/motion.h"
 
 namespace motionfork {
 
 // fps: used when the file has no "fps=" comment. Throws FormatError naming the file, line and
-// column on a non-number, NaN/Inf, wrong column count, unknown or missing joint names.
+// column on a non-number, NaN/Inf, wrong column count, unknown or missing joint names. With
+// `missing`, empty fields and nan/NaN are accepted as missing values: they read as 0 and are
+// marked 1 in *missing ([T, J, 3]).
 Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton,
-                     double fps);
+                     double fps, std::vector<uint8_t>* missing = nullptr);
 // All-or-nothing write.
 void WriteCsvMotion(const std::string& path, const Motion& motion);
 

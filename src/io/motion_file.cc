@@ -30,9 +30,13 @@ const char* ToString(MotionFormat format) {
 
 Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options) {
   switch (FormatOfPath(path)) {
-    case MotionFormat::kBvh: return ReadBvhFile(path, options.bvh);
-    case MotionFormat::kNpy: return ReadNpyMotion(path, options.skeleton, options.fps);
-    case MotionFormat::kCsv: return ReadCsvMotion(path, options.skeleton, options.fps);
+    case MotionFormat::kBvh: {
+      Motion m = ReadBvhFile(path, options.bvh);
+      if (options.missing) options.missing->assign(m.positions().size(), 0);
+      return m;
+    }
+    case MotionFormat::kNpy: return ReadNpyMotion(path, options.skeleton, options.fps, options.missing);
+    case MotionFormat::kCsv: return ReadCsvMotion(path, options.skeleton, options.fps, options.missing);
   }
   throw std::logic_error("unreachable");
 }

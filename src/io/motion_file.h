@@ -4,6 +4,8 @@
 
 #include <memory>
 #include <string>
+#include <vector>
+#include <cstdint>
 
 #include "core/motion.h"
 #include "io/bvh.h"
@@ -25,6 +27,9 @@ struct MotionReadOptions {
   // Frame rate for formats that may not store one (.npy always, .csv without an fps comment).
   double fps = 30.0;
   BvhOptions bvh;
+  // When set, missing values are accepted (NaN in .npy; empty, nan or NaN fields in .csv; BVH
+  // has none): they read as 0 and are marked 1 here, [T, J, 3] like the positions.
+  std::vector<uint8_t>* missing = nullptr;
 };
 
 Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options = {});

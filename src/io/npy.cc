@@ -275,7 +275,7 @@ T LoadLittleEndian(const char* p) {
 
 }  // namespace
 
-NpyArray ParseNpy(std::string_view bytes, const std::string& source_name) {
+NpyArray ParseNpy(std::string_view bytes, const std::string& source_name, bool allow_nan) {
   const std::string& src = source_name;
   if (bytes.size() < kMagicLen + 2 ||
       bytes.substr(0, kMagicLen) != std::string_view(kMagic, kMagicLen)) {
@@ -401,7 +401,7 @@ NpyArray ParseNpy(std::string_view bytes, const std::string& source_name) {
       }
       v = static_cast<float>(d);
     }
-    if (!std::isfinite(v)) {
+    if (!std::isfinite(v) && !(allow_nan && std::isnan(v))) {
       throw FormatError(FormatMessage(src, "",
                                       std::string("expected finite values, found ") +
                                           (std::isnan(v) ? "NaN" : "Inf") + " at " +
@@ -412,7 +412,7 @@ NpyArray ParseNpy(std::string_view bytes, const std::string& source_name) {
   return out;
 }
 
-NpyArray ReadNpy(const std::string& path) { return ParseNpy(ReadFileBytes(path), path); }
+NpyArray ReadNpy(const std::string& path, bool allow_nan) { return ParseNpy(ReadFileBytes(path), path, allow_nan); }
 
 std::string SerializeNpy(const NpyArray& array) {
   size_t count = 1;
@@ -479,8 +479,8 @@ void WriteNpy(const std::string& path, const NpyArray& array) {
 }
 
 Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton,
-                     double fps) {
-  NpyArray array = ReadNpy(path);
+                     double fps, std::vector<uint8_t>* missing) {
+  NpyArray array = ReadNpy(path, missing != nullptr);
   if (array.shape.size() != 3 || array.shape[2] != 3) {
     throw FormatError(FormatMessage(
         path, "",
@@ -502,6 +502,15 @@ Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> sk
                                     "expected " + std::to_string(skeleton->num_joints()) +
                                         " joints (skeleton '" + skeleton->name() +
                                         "'), found shape " + ShapeString(array.shape)));
+  }
+  if (missing) {
+    missing->assign(array.data.size(), 0);
+    for (size_t i = 0; i < array.data.size(); ++i) {
+      if (std::isnan(array.data[i])) {
+        (*missing)[i] = 1;
+        array.data[i] = 0.0f;
+      }
+    }
   }
   return Motion(std::move(skeleton), fps, std::move(array.data));
 }

@@ -19,16 +19,19 @@ struct NpyArray {
 
 // Throws FormatError naming the file, what was expected and what was found (bad magic, unsupported
 // dtype or Fortran order, truncated data, NaN/Inf at a given index).
-NpyArray ReadNpy(const std::string& path);
-NpyArray ParseNpy(std::string_view bytes, const std::string& source_name);
+// allow_nan: NaN values are kept (missing values); Inf is still an error.
+NpyArray ReadNpy(const std::string& path, bool allow_nan = false);
+NpyArray ParseNpy(std::string_view bytes, const std::string& source_name, bool allow_nan = false);
 // All-or-nothing write (temporary file + rename). Throws std::invalid_argument when the shape does
 // not match the data size.
 void WriteNpy(const std::string& path, const NpyArray& array);
 std::string SerializeNpy(const NpyArray& array);
 
 // A [T, J, 3] array as a motion of the given skeleton (its joint count must equal J) at fps Hz.
-// With a null skeleton an anonymous J-joint skeleton is used.
-Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton, double fps);
+// With a null skeleton an anonymous J-joint skeleton is used. With `missing`, NaN values are
+// accepted: they read as 0 and are marked 1 in *missing ([T, J, 3]).
+Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton, double fps,
+                     std::vector<uint8_t>* missing = nullptr);
 void WriteNpyMotion(const std::string& path, const Motion& motion);
 
 }  // namespace motionfork

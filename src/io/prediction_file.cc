@@ -91,6 +91,10 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   j["array"] = std::filesystem::path(base + ".npy").filename().string();
   j["shape"] = {p.k, T, J, 3};
   if (p.history_validity) j["history_validity"] = ValidityJson(*p.history_validity);
+  if (p.imputation) {
+    j["imputation"] = {{"model", p.imputation->model}, {"missing_values", p.imputation->missing_values},
+                       {"score_before", p.imputation->score_before}, {"score_after", p.imputation->score_after}};
+  }
   json samples = json::array();
   for (const SampleValidity& v : p.samples) samples.push_back(ValidityJson(v));
   j["samples"] = samples;
@@ -152,6 +156,11 @@ Prediction ReadPrediction(const std::string& path) {
   }
   p.fixed_parts = j.value("fixed_parts", std::vector<std::string>{});
   if (j.contains("history_validity")) p.history_validity = ValidityFromJson(j["history_validity"], json_path);
+  if (j.contains("imputation")) {
+    const json& im = j["imputation"];
+    p.imputation = HistoryImputation{im.value("model", std::string()), im.value("missing_values", 0),
+                                     im.value("score_before", 0.0), im.value("score_after", 0.0)};
+  }
   for (const auto& sj : j.value("samples", json::array())) p.samples.push_back(ValidityFromJson(sj, json_path));
   if (!p.samples.empty() && static_cast<int>(p.samples.size()) != p.k) {
     throw FormatError(FormatMessage(json_path, "key 'samples'", "expected " + std::to_string(p.k) + " entries, found " +

@@ -24,6 +24,14 @@ struct SampleValidity {
   std::optional<double> prior_nll;  // mean over future frames of the pose prior's NLL
 };
 
+// When the history had missing values filled by an HG-VAE (predict --impute).
+struct HistoryImputation {
+  std::string model;        // HG-VAE bundle
+  int missing_values = 0;   // in the history frames
+  double score_before = 0;  // posterior score with the missing values at the training mean
+  double score_after = 0;   // imputed
+};
+
 struct Prediction {
   std::string model, protocol, history;
   int start_frame = 0, k = 0, t_his = 0, t_pred = 0;
@@ -34,6 +42,7 @@ struct Prediction {
   std::vector<float> positions;        // [K, t_his + t_pred, J, 3]
   std::vector<SampleValidity> samples;  // K entries, or empty when validity was not computed
   std::optional<SampleValidity> history_validity;  // the same figures for the history frames
+  std::optional<HistoryImputation> imputation;     // the history's missing values were imputed
 
   int frames() const { return t_his + t_pred; }
   int joints() const { return skeleton ? skeleton->num_joints() : 0; }

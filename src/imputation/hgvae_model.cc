@@ -1,0 +1,214 @@
+#include "imputation/hgvae_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "imputation/hgvae_bundle.h"
+#include "imputation/hgvae_tensors.h"
+
+namespace motionfork {
+
+namespace {
+constexpr int64_t kChunk = 256;  // windows per pass
+}  // namespace
+
+struct HgvaeModel::Impl {
+  HgvaeManifest manifest;
+  std::shared_ptr<const Skeleton> skeleton;
+  mutable HgvaeNet net{nullptr};
+  std::unique_ptr<HgvaeTensors> tensors;
+  double log_det = 0;  // T * sum log std: normalised -> metres densities
+
+  int64_t T() const { return manifest.model.window; }
+  int64_t N() const { return static_cast<int64_t>(manifest.mean.size()); }
+
+  torch::Tensor Labels(int class_index, int64_t count) const {
+    if (class_index < 0) return {};
+    torch::Tensor l = torch::zeros({count, static_cast<int64_t>(manifest.classes.size())});
+    l.select(1, class_index).fill_(1.0f);
+    return l;
+  }
+
+  int64_t CheckWindows(const std::vector<float>& w, const char* what) const {
+    const size_t per = static_cast<size_t>(T() * N());
+    if (w.empty() || w.size() % per != 0) {
+      throw std::invalid_argument(std::string(what) + ": expected windows of " + std::to_string(T()) + " frames x " +
+                                  std::to_string(N()) + " coordinates (a multiple of " + std::to_string(per) +
+                                  " values), got " + std::to_string(w.size()) + " values");
+    }
+    return static_cast<int64_t>(w.size() / per);
+  }
+
+  // Objective of imputation per window and the paper's score, both [B].
+  std::pair<torch::Tensor, torch::Tensor> Objective(const torch::Tensor& x, const torch::Tensor& labels,
+                                                    ImputeObjective objective) const {
+    const HgvaeOutput o = net->forward(x, labels, LatentMode::kPosteriorMean);
+    const torch::Tensor score = net->PosteriorScore(o);
+    if (objective == ImputeObjective::kPosterior) return {score, score};
+    return {score + HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar), score};
+  }
+};
+
+HgvaeModel HgvaeModel::Load(const std::string& dir) {
+  HgvaeModel m;
+  m.impl_ = std::make_shared<Impl>();
+  Impl& impl = *m.impl_;
+  impl.net = LoadHgvaeBundle(dir, &impl.manifest);
+  for (auto& p : impl.net->parameters()) p.set_requires_grad(false);
+  impl.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl.manifest.skeleton));
+  impl.tensors = std::make_unique<HgvaeTensors>(impl.manifest);
+  for (double s : impl.manifest.std) impl.log_det += impl.T() * std::log(s);
+  return m;
+}
+
+const HgvaeManifest& HgvaeModel::manifest() const { return impl_->manifest; }
+const Skeleton& HgvaeModel::skeleton() const { return *impl_->skeleton; }
+int HgvaeModel::window() const { return static_cast<int>(impl_->T()); }
+int HgvaeModel::coords() const { return static_cast<int>(impl_->N()); }
+
+int HgvaeModel::ClassIndex(const std::string& name) const {
+  if (name.empty()) return -1;
+  const auto& c = impl_->manifest.classes;
+  const auto it = std::find(c.begin(), c.end(), name);
+  if (it != c.end()) return static_cast<int>(it - c.begin());
+  std::string list;
+  for (const auto& n : c) list += (list.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown class '" + name + "'" +
+                              (c.empty() ? " (this model is unconditional: it has no classes)"
+                                         : " (the model's classes: " + list + ")"));
+}
+
+double HgvaeModel::OodThreshold() const {
+  return impl_->manifest.score_mean - impl_->manifest.ood_k * impl_->manifest.score_std;
+}
+
+std::vector<double> HgvaeModel::Score(const std::vector<float>& windows, int class_index) const {
+  const Impl& im = *impl_;
+  const int64_t count = im.CheckWindows(windows, "Score");
+  torch::NoGradGuard no_grad;
+  std::vector<double> out;
+  for (int64_t s = 0; s < count; s += kChunk) {
+    const int64_t n = std::min(kChunk, count - s);
+    const torch::Tensor x = im.tensors->ToNodeMajor(windows.data() + s * im.T() * im.N(), n);
+    const torch::Tensor sc = im.Objective(x, im.Labels(class_index, n), ImputeObjective::kPosterior).second;
+    const torch::Tensor d = sc.to(torch::kFloat64).contiguous();
+    out.insert(out.end(), d.data_ptr<double>(), d.data_ptr<double>() + n);
+  }
+  return out;
+}
+
+std::vector<float> HgvaeModel::MeanImpute(const std::vector<float>& windows, const std::vector<uint8_t>& missing) const {
+  const Impl& im = *impl_;
+  im.CheckWindows(windows, "MeanImpute");
+  if (missing.size() != windows.size()) throw std::invalid_argument("MeanImpute: mask and windows differ in size");
+  std::vector<float> out = windows;
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (missing[i]) out[i] = static_cast<float>(im.manifest.mean[i % im.N()]);
+  }
+  return out;
+}
+
+ImputeResult HgvaeModel::Impute(const std::vector<float>& windows, const std::vector<uint8_t>& missing,
+                                const ImputeOptions& options, int class_index) const {
+  const Impl& im = *impl_;
+  const int64_t count = im.CheckWindows(windows, "Impute");
+  if (missing.size() != windows.size()) {
+    throw std::invalid_argument("Impute: the mask has " + std::to_string(missing.size()) + " values, the windows " +
+                                std::to_string(windows.size()));
+  }
+  const size_t per = static_cast<size_t>(im.T() * im.N());
+  for (int64_t w = 0; w < count; ++w) {
+    const auto first = missing.begin() + w * per;
+    if (std::all_of(first, first + per, [](uint8_t v) { return v != 0; })) {
+      throw std::invalid_argument("Impute: window " + std::to_string(w) +
+                                  " has every value missing: nothing to impute from");
+    }
+  }
+  ImputeResult r;
+  r.windows.reserve(windows.size());
+  for (int64_t s = 0; s < count; s += kChunk) {
+    const int64_t n = std::min(kChunk, count - s);
+    const torch::Tensor mask = im.tensors->MaskToNodeMajor(missing.data() + s * per, n);
+    const torch::Tensor raw = im.tensors->ToNodeMajor(windows.data() + s * per, n);
+    const torch::Tensor x0 = torch::where(mask > 0, torch::zeros_like(raw), raw);  // missing -> mean (0)
+    const torch::Tensor labels = im.Labels(class_index, n);
+    torch::Tensor v = torch::zeros_like(x0).requires_grad_(true);
+    torch::optim::Adam adam({v}, torch::optim::AdamOptions(options.learning_rate));
+    torch::Tensor best_obj = torch::full({n}, -std::numeric_limits<float>::infinity());
+    torch::Tensor best_score = torch::zeros({n}), before;
+    torch::Tensor best_x = x0.clone(), best_step = torch::zeros({n}, torch::kInt64);
+    for (int step = 0; step <= options.steps; ++step) {
+      const torch::Tensor x = x0 + v * mask;
+      auto [obj, score] = im.Objective(x, labels, options.objective);
+      {
+        torch::NoGradGuard no_grad;
+        if (step == 0) before = score.detach().clone();
+        const torch::Tensor better = obj.detach() > best_obj;
+        best_obj = torch::where(better, obj.detach(), best_obj);
+        best_score = torch::where(better, score.detach(), best_score);
+        best_step = torch::where(better, torch::full_like(best_step, step), best_step);
+        best_x = torch::where(better.view({1, n, 1}), x.detach(), best_x);
+      }
+      if (step == options.steps) break;
+      adam.zero_grad();
+      (-obj.sum()).backward();
+      adam.step();
+    }
+    const std::vector<float> filled = im.tensors->FromNodeMajor(best_x);
+    // Observed values are returned exactly as given (no round trip through the normalisation).
+    for (size_t i = 0; i < filled.size(); ++i) {
+      const size_t g = static_cast<size_t>(s) * per + i;
+      r.windows.push_back(missing[g] ? filled[i] : windows[g]);
+    }
+    for (int64_t i = 0; i < n; ++i) {
+      r.score_before.push_back(before[i].item<double>());
+      r.score_after.push_back(best_score[i].item<double>());
+      r.best_step.push_back(static_cast<int>(best_step[i].item<int64_t>()));
+    }
+  }
+  return r;
+}
+
+HgvaeWindowFigures HgvaeModel::Evaluate(const std::vector<float>& windows, uint64_t seed) const {
+  const Impl& im = *impl_;
+  const int64_t count = im.CheckWindows(windows, "Evaluate");
+  torch::NoGradGuard no_grad;
+  at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(seed);
+  HgvaeWindowFigures f;
+  f.kl_levels.resize(im.net->num_levels());
+  auto append = [](std::vector<double>& dst, const torch::Tensor& t) {
+    const torch::Tensor d = t.to(torch::kFloat64).contiguous();
+    dst.insert(dst.end(), d.data_ptr<double>(), d.data_ptr<double>() + d.numel());
+  };
+  for (int64_t s = 0; s < count; s += kChunk) {
+    const int64_t n = std::min(kChunk, count - s);
+    const torch::Tensor x = im.tensors->ToNodeMajor(windows.data() + s * im.T() * im.N(), n);
+    const HgvaeOutput o = im.net->forward(x, {}, LatentMode::kSample, gen);
+    append(f.elbo, HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl - im.log_det);
+    append(f.recon_mse_sampled, im.tensors->SquaredErrorMetres(x, o.x_mean).mean(std::vector<int64_t>{0, 2}));
+    for (int64_t l = 0; l < im.net->num_levels(); ++l) append(f.kl_levels[l], o.kl_levels[l]);
+    const HgvaeOutput om = im.net->forward(x, {}, LatentMode::kPosteriorMean);
+    append(f.score, im.net->PosteriorScore(om));
+    append(f.recon_mse, im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
+  }
+  return f;
+}
+
+std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed, bool sample_latents) const {
+  const Impl& im = *impl_;
+  if (count < 1) throw std::invalid_argument("Sample: expected a count >= 1, got " + std::to_string(count));
+  torch::NoGradGuard no_grad;
+  at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(seed);
+  std::vector<float> out;
+  for (int64_t s = 0; s < count; s += kChunk) {
+    const int64_t n = std::min<int64_t>(kChunk, count - s);
+    const std::vector<float> w =
+        im.tensors->FromNodeMajor(im.net->Generate(n, im.Labels(class_index, n), sample_latents, gen));
+    out.insert(out.end(), w.begin(), w.end());
+  }
+  return out;
+}
+
+}  // namespace motionfork

@@ -1,0 +1,72 @@
+// A trained HG-VAE, ready to use (no LibTorch in this header): posterior scores and
+// out-of-distribution flags, imputation of missing values, evidence lower bounds, sampling.
+//
+// Windows are [count, T, N] floats: T = window() frames of N = coords() root-relative coordinates
+// without the root (metres; joint j's x, y, z at 3 (j - 1) .. 3 (j - 1) + 2), the layout of
+// PoseVectorsWithoutRoot. Missing-value masks have the same layout (1 = missing). Work is done in
+// chunks, so any count is fine. Inference only: no call trains the model.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/skeleton.h"
+#include "imputation/hgvae_options.h"
+
+namespace motionfork {
+
+struct ImputeResult {
+  std::vector<float> windows;         // [count, T, N], observed values unchanged
+  std::vector<double> score_before;   // posterior score with the missing values at the mean
+  std::vector<double> score_after;    // at the chosen step
+  std::vector<int> best_step;         // 0 = the mean start was best
+};
+
+struct HgvaeWindowFigures {
+  std::vector<double> elbo;        // evidence lower bound, nats per window (density in metres)
+  std::vector<double> score;       // posterior score (the paper's p(z|x))
+  std::vector<double> recon_mse;   // squared error of the reconstruction (posterior means), m^2 per value
+  std::vector<double> recon_mse_sampled;  // the same with latents sampled from the posterior
+  std::vector<std::vector<double>> kl_levels;  // [level][window], nats
+};
+
+class HgvaeModel {
+ public:
+  // Reads DIR/hgvae.yaml and DIR/hgvae.pt. Throws FormatError naming the missing or bad file.
+  static HgvaeModel Load(const std::string& dir);
+
+  const HgvaeManifest& manifest() const;
+  const Skeleton& skeleton() const;
+  int window() const;  // frames
+  int coords() const;  // N
+  // Class index of a name, -1 for "" ; throws std::invalid_argument listing the classes.
+  int ClassIndex(const std::string& name) const;
+
+  // Posterior score per window (higher = more typical). class_index -1 = none.
+  std::vector<double> Score(const std::vector<float>& windows, int class_index = -1) const;
+  double OodThreshold() const;  // score_mean - k * score_std
+  bool OutOfDistribution(double score) const { return score < OodThreshold(); }
+
+  // Missing values (mask 1) start at the training mean and move by Adam on the objective; each
+  // window keeps its best step. Throws std::invalid_argument for a window with every value
+  // missing or mismatched sizes.
+  ImputeResult Impute(const std::vector<float>& windows, const std::vector<uint8_t>& missing,
+                      const ImputeOptions& options, int class_index = -1) const;
+  // Mean imputation (the baseline): missing values -> training mean.
+  std::vector<float> MeanImpute(const std::vector<float>& windows, const std::vector<uint8_t>& missing) const;
+
+  // ELBO (one posterior sample from `seed`), score, reconstruction error, KL per level.
+  HgvaeWindowFigures Evaluate(const std::vector<float>& windows, uint64_t seed = 0) const;
+
+  // count windows [count, T, N] from the prior (class_index -1 = no class); sample_latents false
+  // takes each level's prior mean.
+  std::vector<float> Sample(int count, int class_index, uint64_t seed, bool sample_latents = true) const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<Impl> impl_;
+};
+
+}  // namespace motionfork

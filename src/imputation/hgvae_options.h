@@ -1,0 +1,97 @@
+// HG-VAE settings (configs/models/hgvae_*.yaml; bundles' hgvae.yaml). Plain structs, no LibTorch.
+//
+// Sizes follow the HG-VAE paper (../shared/seeds/hgvae-paper.txt) scaled to our skeletons: one
+// graph node per coordinate (joints x 3), DCT coefficients of the window as node features, and
+// stochastic levels from one global node down to the full graph.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace motionfork {
+
+// One stochastic level: its latent graph (nodes x features).
+struct HgvaeLevel {
+  int nodes = 0;     // 0 = every coordinate of the pose (the full graph, e.g. 48 for 16 joints)
+  int features = 0;  // latent features per node
+};
+
+struct HgvaeOptions {
+  // Top (one global node) to bottom (the full graph). Paper: 1x256, 8x128, 24x128, 54x128.
+  std::vector<HgvaeLevel> levels = {{1, 256}, {8, 128}, {24, 128}, {0, 128}};
+  int width = 256;              // features of the decoder's deterministic path (paper: 256)
+  int encoder_blocks = 1;       // residual graph-conv blocks (GCB) per level, bottom-up pass
+  int decoder_blocks = 1;       // GCBs per level, top-down pass
+  int stochastic_levels = 0;    // 0 = all; d > 0: only the top d levels sample, the others take
+                                // their prior mean and add no KL (the paper's stochastic depth)
+  int window = 0;               // frames per window; 0 = the protocol's history length (t_his)
+  // p(x | z) = N(mean, var): false = one learned log-variance per coordinate and frame (shared by
+  // all windows, so every value must be explained); true = the decoder predicts it per window
+  // (better likelihoods, but it may give up on hard values by widening them).
+  bool predicted_variance = false;
+  double label_dropout = 0.25;  // conditional models: share of training windows whose one-hot is
+                                // all zero, so the model also works without a class
+};
+
+struct HgvaeTrainOptions {
+  int epochs = 60;
+  int windows_per_epoch = 20000;  // random training windows per epoch
+  int batch_size = 256;           // windows per Adam step (paper: 800)
+  double learning_rate = 1e-3;    // Adam (paper: 1e-3), constant
+  double grad_clip = 100;         // gradient-norm clip (paper: 100)
+  int kl_warmup_epochs = 20;      // KL weight rises linearly from kl_start to 1 over these epochs
+  double kl_start = 1e-3;         // (paper: 0.001 -> 1 over 200 of 5000 epochs)
+  std::string condition;          // "" = unconditional; "action" = one-hot of the clip's action
+  double held_out_share = 0.05;   // training clips held out: per-epoch ELBO and the OoD statistics
+  int held_out_windows = 2000;    // at most this many held-out windows (stride 1 over the clips)
+  uint64_t seed = 0;
+  int threads = 1;
+};
+
+enum class ImputeObjective {
+  kPosterior,  // the paper's: sum over levels of log p(mu_q,l | z<l), the posterior means under the prior
+  kJoint,      // the same plus log p(x | z = posterior means): also asks the decoder to explain x
+};
+const char* ToString(ImputeObjective objective);
+
+struct ImputeOptions {
+  int steps = 10;               // Adam steps on the missing values (paper: 10, or 100)
+  double learning_rate = 0.1;   // Adam step on normalised coordinates (one unit = one training std)
+  ImputeObjective objective = ImputeObjective::kJoint;
+};
+
+struct HgvaeTrainConfig {
+  std::string path;
+  std::string name;
+  std::string protocol;  // protocol config name or path
+  HgvaeOptions model;
+  HgvaeTrainOptions training;
+  ImputeOptions impute;
+  double ood_k = 2.0;  // a window is out of distribution when its score < mean - k * std
+};
+
+}  // namespace motionfork
+
+#include "core/skeleton.h"
+
+namespace motionfork {
+
+constexpr const char* kHgvaeBundleFormat = "motionfork-hgvae-1";
+
+// A bundle's hgvae.yaml: everything needed to rebuild and use the model.
+struct HgvaeManifest {
+  std::string format = kHgvaeBundleFormat;
+  std::string protocol;
+  double fps = 0;                    // Hz
+  HgvaeOptions model;                // levels with nodes resolved (no 0), window resolved
+  SkeletonSpec skeleton;             // the protocol skeleton (root first; the root is dropped)
+  std::vector<std::string> classes;  // one-hot order; empty = unconditional model
+  std::vector<double> mean, std;     // per coordinate [N]: normalisation, metres (root-relative)
+  double score_mean = 0, score_std = 0;  // posterior score of held-out training windows
+  double ood_k = 2.0;
+  ImputeOptions impute;              // defaults for `motionfork impute`
+  std::vector<std::pair<std::string, std::string>> info;  // provenance
+};
+
+}  // namespace motionfork

@@ -1,0 +1,30 @@
+#include "imputation/hgvae_tensors.h"
+
+namespace motionfork {
+
+HgvaeTensors::HgvaeTensors(const HgvaeManifest& m)
+    : frames_(m.model.window), coords_(static_cast<int64_t>(m.mean.size())) {
+  mean_ = torch::tensor(m.mean, torch::kFloat64).to(torch::kFloat32).view({coords_, 1, 1});
+  std_ = torch::tensor(m.std, torch::kFloat64).to(torch::kFloat32).view({coords_, 1, 1});
+}
+
+torch::Tensor HgvaeTensors::ToNodeMajor(const float* windows, int64_t count) const {
+  const torch::Tensor w = torch::from_blob(const_cast<float*>(windows), {count, frames_, coords_}, torch::kFloat32);
+  return ((w.permute({2, 0, 1}) - mean_) / std_).contiguous();
+}
+
+std::vector<float> HgvaeTensors::FromNodeMajor(const torch::Tensor& x) const {
+  const torch::Tensor w = (x.detach() * std_ + mean_).permute({1, 2, 0}).contiguous();
+  return std::vector<float>(w.data_ptr<float>(), w.data_ptr<float>() + w.numel());
+}
+
+torch::Tensor HgvaeTensors::MaskToNodeMajor(const uint8_t* missing, int64_t count) const {
+  const torch::Tensor m = torch::from_blob(const_cast<uint8_t*>(missing), {count, frames_, coords_}, torch::kUInt8);
+  return m.permute({2, 0, 1}).to(torch::kFloat32).contiguous();
+}
+
+torch::Tensor HgvaeTensors::SquaredErrorMetres(const torch::Tensor& a, const torch::Tensor& b) const {
+  return ((a - b) * std_).pow(2);
+}
+
+}  // namespace motionfork

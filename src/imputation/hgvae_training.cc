@@ -1,0 +1,235 @@
+#include "imputation/hgvae_training.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <sstream>
+
+#include "dataset/windows.h"
+#include "imputation/hgvae_bundle.h"
+#include "imputation/hgvae_tensors.h"
+#include "torch_util/checkpoint.h"
+#include "torch_util/threads.h"
+
+namespace motionfork {
+
+namespace fs = std::filesystem;
+
+HgvaeData MakeHgvaeData(const Dataset& dataset, const HgvaeTrainOptions& options, int window) {
+  HgvaeData data;
+  std::vector<int> clips;
+  for (int c : dataset.ClipIndices(Split::kTrain)) {
+    if (dataset.clips[c].motion.num_frames() >= window) clips.push_back(c);
+  }
+  if (clips.size() < 2) {
+    throw std::invalid_argument("HG-VAE training: expected at least 2 training clips of >= " + std::to_string(window) +
+                                " frames, found " + std::to_string(clips.size()));
+  }
+  if (options.condition == "action") {
+    std::set<std::string> names;
+    for (int c : clips) names.insert(dataset.clips[c].action);
+    data.classes.assign(names.begin(), names.end());
+  }
+  std::vector<int> order = clips;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(options.seed));
+  const size_t held = std::max<size_t>(1, static_cast<size_t>(std::lround(options.held_out_share * order.size())));
+  const std::set<int> held_out(order.begin(), order.begin() + held);
+  for (int c : clips) {
+    const Clip& clip = dataset.clips[c];
+    HgvaeClips& dst = held_out.count(c) ? data.held_out : data.train;
+    dst.poses.push_back(PoseVectorsWithoutRoot(clip.motion));
+    int label = -1;
+    if (!data.classes.empty()) {
+      label = static_cast<int>(std::lower_bound(data.classes.begin(), data.classes.end(), clip.action) -
+                               data.classes.begin());
+    }
+    dst.labels.push_back(label);
+  }
+  data.coords = 3 * (dataset.clips[clips[0]].motion.num_joints() - 1);
+  return data;
+}
+
+std::vector<float> HeldOutWindows(const HgvaeClips& clips, int window, int coords, int limit,
+                                  std::vector<int>* labels) {
+  std::vector<std::pair<int, int>> all;  // (clip, start)
+  for (size_t c = 0; c < clips.poses.size(); ++c) {
+    const int frames = static_cast<int>(clips.poses[c].size() / coords);
+    for (int s = 0; s + window <= frames; ++s) all.emplace_back(static_cast<int>(c), s);
+  }
+  std::vector<std::pair<int, int>> picked;
+  if (static_cast<int>(all.size()) <= limit) {
+    picked = all;
+  } else {
+    for (int i = 0; i < limit; ++i) picked.push_back(all[static_cast<size_t>(i) * all.size() / limit]);
+  }
+  std::vector<float> out;
+  out.reserve(picked.size() * window * coords);
+  for (const auto& [c, s] : picked) {
+    const float* p = clips.poses[c].data() + static_cast<size_t>(s) * coords;
+    out.insert(out.end(), p, p + static_cast<size_t>(window) * coords);
+    if (labels) labels->push_back(clips.labels[c]);
+  }
+  return out;
+}
+
+namespace {
+
+void ComputeNormalisation(const HgvaeClips& clips, int coords, HgvaeManifest* m) {
+  std::vector<double> sum(coords, 0.0), sq(coords, 0.0);
+  double frames = 0;
+  for (const auto& p : clips.poses) {
+    for (size_t i = 0; i < p.size(); ++i) {
+      sum[i % coords] += p[i];
+      sq[i % coords] += double(p[i]) * p[i];
+    }
+    frames += static_cast<double>(p.size() / coords);
+  }
+  m->mean.assign(coords, 0.0);
+  m->std.assign(coords, 1.0);
+  for (int c = 0; c < coords; ++c) {
+    m->mean[c] = sum[c] / frames;
+    m->std[c] = std::max(1e-3, std::sqrt(std::max(0.0, sq[c] / frames - m->mean[c] * m->mean[c])));
+  }
+}
+
+double KlWeight(const HgvaeTrainOptions& t, double epoch_progress) {
+  if (t.kl_warmup_epochs <= 0) return 1.0;
+  const double f = std::min(1.0, epoch_progress / t.kl_warmup_epochs);
+  return t.kl_start + (1.0 - t.kl_start) * f;
+}
+
+}  // namespace
+
+HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest& base, const HgvaeData& data,
+                             const std::string& out_dir, const HgvaeTrainCallbacks& cb, int stop_after_epochs) {
+  const HgvaeTrainOptions& t = config.training;
+  PinThreads(t.threads);
+  torch::manual_seed(t.seed);
+  HgvaeManifest m = base;
+  m.model = config.model;
+  m.classes = data.classes;
+  const int N = data.coords, T = m.model.window;
+  ComputeNormalisation(data.train, N, &m);
+  const HgvaeTensors norm(m);
+  HgvaeNet net = BuildHgvaeNet(m);
+  torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
+  const fs::path out(out_dir), ckpt = out / "checkpoint";
+  fs::create_directories(ckpt);
+
+  HgvaeTrainSummary summary;
+  summary.first_epoch = LoadCheckpoint(ckpt.string(), "hgvae.pt", *net, adam);
+  if (summary.first_epoch > 0) {
+    if (cb.message) cb.message("resuming from " + ckpt.string() + " at epoch " + std::to_string(summary.first_epoch + 1));
+  }
+  std::vector<int> frames;
+  for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
+  std::vector<int> held_labels;
+  const std::vector<float> held = HeldOutWindows(data.held_out, T, N, t.held_out_windows, &held_labels);
+  const int64_t num_held = static_cast<int64_t>(held.size() / (static_cast<size_t>(T) * N));
+  const int C = static_cast<int>(m.classes.size());
+  const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
+  double log_det = 0;  // normalised -> metres: log p_metres(x) = log p_norm(x) - T * sum log std
+  for (double s : m.std) log_det += T * std::log(s);
+
+  const bool new_log = !fs::exists(out / "log.csv");
+  std::ofstream csv(out / "log.csv", std::ios::app);
+  const auto start = std::chrono::steady_clock::now();
+  for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
+    if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
+    const auto epoch_start = std::chrono::steady_clock::now();
+    net->train();
+    RandomWindowSampler sampler(frames, T, t.seed * 1000003ull + epoch);
+    std::mt19937_64 rng(t.seed * 7919ull + epoch);
+    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch);
+    std::bernoulli_distribution drop(m.model.label_dropout);
+    double sum_loss = 0, sum_nll = 0, sum_kl = 0, beta = 0;
+    std::vector<double> sum_levels(net->num_levels(), 0.0);
+    std::vector<float> batch(static_cast<size_t>(B) * T * N);
+    for (int it = 0; it < iterations; ++it) {
+      torch::Tensor labels;
+      if (C > 0) labels = torch::zeros({B, C});
+      for (int b = 0; b < B; ++b) {
+        const Window w = sampler.Next();
+        const float* p = data.train.poses[w.clip].data() + static_cast<size_t>(w.start) * N;
+        std::copy(p, p + static_cast<size_t>(T) * N, batch.begin() + static_cast<size_t>(b) * T * N);
+        if (C > 0 && !drop(rng)) labels[b][data.train.labels[w.clip]] = 1.0f;
+      }
+      const torch::Tensor x = norm.ToNodeMajor(batch.data(), B);
+      beta = KlWeight(t, epoch + static_cast<double>(it) / iterations);
+      const HgvaeOutput o = net->forward(x, labels, LatentMode::kSample, gen);
+      const torch::Tensor nll = -HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar).mean();
+      const torch::Tensor kl = o.kl.mean();
+      const torch::Tensor loss = nll + beta * kl;
+      adam.zero_grad();
+      loss.backward();
+      torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
+      adam.step();
+      const double l = loss.item<double>(), n = nll.item<double>(), k = kl.item<double>();
+      if (!std::isfinite(l)) throw std::runtime_error("HG-VAE training: the loss became non-finite at epoch " + std::to_string(epoch + 1));
+      sum_loss += l;
+      sum_nll += n;
+      sum_kl += k;
+      for (int64_t lv = 0; lv < net->num_levels(); ++lv) sum_levels[lv] += o.kl_levels[lv].mean().item<double>();
+      if (cb.step) cb.step(epoch, double(it + 1) / iterations, sum_loss / (it + 1), sum_nll / (it + 1), sum_kl / (it + 1));
+    }
+    // Held-out figures: ELBO (one posterior sample, fixed seed), reconstruction MSE, posterior score.
+    net->eval();
+    double elbo = 0, mse = 0;
+    std::vector<double> scores;
+    {
+      torch::NoGradGuard no_grad;
+      at::Generator eval_gen = at::make_generator<at::CPUGeneratorImpl>(t.seed + 17);
+      for (int64_t s = 0; s < num_held; s += 512) {
+        const int64_t count = std::min<int64_t>(512, num_held - s);
+        const torch::Tensor x = norm.ToNodeMajor(held.data() + static_cast<size_t>(s) * T * N, count);
+        const HgvaeOutput o = net->forward(x, {}, LatentMode::kSample, eval_gen);
+        elbo += (HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl).sum().item<double>();
+        const HgvaeOutput om = net->forward(x, {}, LatentMode::kPosteriorMean);
+        mse += norm.SquaredErrorMetres(x, om.x_mean).sum().item<double>();
+        const torch::Tensor sc = net->PosteriorScore(om);
+        for (int64_t i = 0; i < count; ++i) scores.push_back(sc[i].item<double>());
+      }
+    }
+    double mean = 0, var = 0;
+    for (double s : scores) mean += s;
+    mean /= std::max<size_t>(1, scores.size());
+    for (double s : scores) var += (s - mean) * (s - mean);
+    m.score_mean = mean;
+    m.score_std = std::sqrt(var / std::max<size_t>(1, scores.size() - 1));
+    HgvaeEpochLog log;
+    log.epoch = epoch;
+    log.kl_weight = beta;
+    log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
+    log.terms = {{"loss", sum_loss / iterations}, {"nll", sum_nll / iterations}, {"kl", sum_kl / iterations}};
+    for (int64_t lv = 0; lv < net->num_levels(); ++lv) {
+      log.terms.emplace_back("kl" + std::to_string(lv), sum_levels[lv] / iterations);
+    }
+    log.terms.emplace_back("held_out_elbo_nats", elbo / num_held - log_det);
+    log.terms.emplace_back("held_out_mse_m2", mse / (static_cast<double>(num_held) * T * N));
+    log.terms.emplace_back("held_out_score_mean", m.score_mean);
+    log.terms.emplace_back("held_out_score_std", m.score_std);
+    if (new_log && epoch == summary.first_epoch) {
+      csv << "epoch,kl_weight,seconds";
+      for (const auto& [k, v] : log.terms) csv << "," << k;
+      csv << "\n";
+    }
+    csv << epoch + 1 << "," << beta << "," << log.seconds;
+    for (const auto& [k, v] : log.terms) csv << "," << v;
+    csv << "\n" << std::flush;
+    m.info.erase(std::remove_if(m.info.begin(), m.info.end(), [](const auto& kv) { return kv.first == "epochs_trained"; }),
+                 m.info.end());
+    m.info.emplace_back("epochs_trained", std::to_string(epoch + 1));
+    SaveHgvaeBundle(out_dir, m, net);
+    SaveCheckpoint(ckpt.string(), "hgvae.pt", *net, adam, epoch + 1);
+    summary.epochs_done = epoch + 1;
+    if (cb.epoch) cb.epoch(log);
+  }
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace motionfork
