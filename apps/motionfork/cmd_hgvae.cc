@@ -35,6 +35,7 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, const GlobalOptions& g) {
   base.fps = protocol.fps;
   base.skeleton = skeleton.skeleton->ToSpec();
   base.ood_k = cfg.ood_k;
+  base.ood_score = cfg.ood_score;
   base.impute = cfg.impute;
   base.info = {{"config", cfg.name}, {"seed", std::to_string(cfg.training.seed)},
                {"epochs", std::to_string(cfg.training.epochs)}};
@@ -68,7 +69,10 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, const GlobalOptions& g) {
   cb.message = [](const std::string& m) { std::printf("%s\n", m.c_str()); };
   const HgvaeTrainSummary s = TrainHgvae(cfg, base, data, o.out, cb, o.stop_after);
   if (s.first_epoch >= cfg.training.epochs) {
-    std::printf("all %d epochs were trained already; bundle: %s\n", cfg.training.epochs, o.out.c_str());
+    CalibrateOod(o.out, data, cfg.training.held_out_windows, cfg.ood_score, cfg.ood_k);
+    std::printf("all %d epochs were trained already; out-of-distribution statistics (%s score) recomputed; "
+                "bundle: %s\n",
+                cfg.training.epochs, ToString(cfg.ood_score), o.out.c_str());
     return;
   }
   std::printf("trained epochs %d..%d in %s; bundle: %s (hgvae.yaml, hgvae.pt), log: %s/log.csv\n",

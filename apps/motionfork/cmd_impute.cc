@@ -92,9 +92,10 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
   std::printf("imputed %d of %zu values (%.1f%%) in %zu windows of %d frames (%d Adam steps, %s objective)\n",
               r.missing_values, total, 100.0 * r.missing_values / total, r.window_starts.size(), model.window(),
               options.steps, ToString(options.objective));
-  std::printf("posterior score per window: %.1f with the training mean -> %.1f imputed (training windows: %.1f +- %.1f);"
+  std::printf("%s score per window: %.1f with the training mean -> %.1f imputed (training windows: %.1f +- %.1f);"
               " out of distribution: %d -> %d windows\n",
-              before / n, after / n, model.manifest().score_mean, model.manifest().score_std, ood_before, ood_after);
+              ToString(model.manifest().ood_score), before / n, after / n, model.manifest().score_mean,
+              model.manifest().score_std, ood_before, ood_after);
   std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), r.motion.num_frames(), r.motion.fps());
 }
 
@@ -131,10 +132,12 @@ void RunOod(const OodCmd& o, GlobalOptions& g) {
     windows.push_back({{"start", s.start}, {"frames", model.window()}, {"score", s.score},
                        {"out_of_distribution", s.out_of_distribution}});
   }
-  std::printf("%d of %zu windows out of distribution (score below the training mean %.1f - %.3g x std %.1f)\n",
-              flagged, scores.size(), model.manifest().score_mean, model.manifest().ood_k, model.manifest().score_std);
+  std::printf("%d of %zu windows out of distribution (%s score below the training windows' mean %.1f - %.3g x std %.1f)\n",
+              flagged, scores.size(), ToString(model.manifest().ood_score), model.manifest().score_mean,
+              model.manifest().ood_k, model.manifest().score_std);
   if (!o.json_out.empty()) {
-    const json j = {{"model", o.model}, {"motion", o.motion}, {"threshold", model.OodThreshold()},
+    const json j = {{"model", o.model}, {"motion", o.motion}, {"score", ToString(model.manifest().ood_score)},
+                    {"threshold", model.OodThreshold()},
                     {"score_mean", model.manifest().score_mean}, {"score_std", model.manifest().score_std},
                     {"k", model.manifest().ood_k}, {"flagged", flagged}, {"windows", windows}};
     WriteFileAtomically(o.json_out, j.dump(2) + "\n");
@@ -232,9 +235,10 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     kl.push_back(Mean(level));
     kl_total += Mean(level);
   }
-  std::printf(" (total %.1f); posterior score %.1f\n", kl_total, Mean(f.score));
-  j["likelihood"] = {{"elbo_nats", Mean(f.elbo)}, {"recon_mse_m2", Mean(f.recon_mse)}, {"recon_mse_sampled_m2", Mean(f.recon_mse_sampled)}, {"kl_levels", kl},
-                     {"kl_total", kl_total}, {"score_mean", Mean(f.score)}};
+  std::printf(" (total %.1f); posterior score %.1f, joint score %.1f\n", kl_total, Mean(f.score), Mean(f.joint_score));
+  j["likelihood"] = {{"elbo_nats", Mean(f.elbo)}, {"recon_mse_m2", Mean(f.recon_mse)},
+                     {"recon_mse_sampled_m2", Mean(f.recon_mse_sampled)}, {"kl_levels", kl}, {"kl_total", kl_total},
+                     {"posterior_score_mean", Mean(f.score)}, {"joint_score_mean", Mean(f.joint_score)}};
   if (o.likelihood_only) {
     if (!o.json_out.empty()) WriteFileAtomically(o.json_out, j.dump(2) + "\n");
     return;
@@ -264,8 +268,10 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   j["imputation"] = {{"steps", options.steps}, {"learning_rate", options.learning_rate},
                      {"objective", ToString(options.objective)}, {"settings", imp}};
 
-  // Out of distribution: AUROC of the score, clean vs degraded.
+  // Out of distribution: AUROC of both scores, clean vs degraded; flagged by the bundle's score.
   const std::vector<double> clean = model.Score(windows);
+  const std::vector<double> clean_post = model.Score(windows, ImputeObjective::kPosterior);
+  const std::vector<double> clean_joint = model.Score(windows, ImputeObjective::kJoint);
   struct Degraded {
     std::string name;
     std::vector<float> w;
@@ -279,22 +285,25 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   degraded.push_back({"bones x1.5", ScaleBones(model.skeleton(), windows, T, 1.5f)});
   degraded.push_back({"bones x0.7", ScaleBones(model.skeleton(), windows, T, 0.7f)});
   degraded.push_back({"shuffled frames", ShuffleFrames(windows, T, N, o.seed + 11)});
-  std::printf("\nout of distribution: AUROC of the posterior score (clean vs degraded), share flagged at the "
-              "bundle's threshold %.1f\n", model.OodThreshold());
+  std::printf("\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; share flagged "
+              "by the bundle's rule (%s score < %.1f)\n", ToString(m.ood_score), model.OodThreshold());
   int clean_flagged = 0;
   for (double s : clean) clean_flagged += model.OutOfDistribution(s);
-  std::printf("  %-22s %8s %8s\n", "windows", "AUROC", "flagged");
-  std::printf("  %-22s %8s %7.1f%%\n", "clean", "-", 100.0 * clean_flagged / count);
+  std::printf("  %-22s %12s %12s %8s\n", "windows", "AUROC joint", "posterior", "flagged");
+  std::printf("  %-22s %12s %12s %7.1f%%\n", "clean", "-", "-", 100.0 * clean_flagged / count);
   json ood = json::array();
   for (const Degraded& d : degraded) {
     const std::vector<double> s = model.Score(d.w);
     int flagged = 0;
     for (double x : s) flagged += model.OutOfDistribution(x);
-    const double auc = Auroc(clean, s);
-    std::printf("  %-22s %8.4f %7.1f%%\n", d.name.c_str(), auc, 100.0 * flagged / count);
-    ood.push_back({{"degradation", d.name}, {"auroc", auc}, {"flagged", double(flagged) / count}});
+    const double auc_joint = Auroc(clean_joint, model.Score(d.w, ImputeObjective::kJoint));
+    const double auc_post = Auroc(clean_post, model.Score(d.w, ImputeObjective::kPosterior));
+    std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", d.name.c_str(), auc_joint, auc_post, 100.0 * flagged / count);
+    ood.push_back({{"degradation", d.name}, {"auroc_joint", auc_joint}, {"auroc_posterior", auc_post},
+                   {"flagged", double(flagged) / count}});
   }
-  j["ood"] = {{"threshold", model.OodThreshold()}, {"clean_flagged", double(clean_flagged) / count}, {"tests", ood}};
+  j["ood"] = {{"score", ToString(m.ood_score)}, {"threshold", model.OodThreshold()},
+              {"clean_flagged", double(clean_flagged) / count}, {"tests", ood}};
 
   // Downstream forecasting from clean, mean-imputed and imputed histories.
   if (!o.forecaster.empty()) {

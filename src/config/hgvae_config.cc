@@ -175,8 +175,9 @@ HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root)
     }
     ParseImpute(file, Section(file, root, "impute", false), &c.impute);
     const YAML::Node ood = Section(file, root, "ood", false);
-    CheckKeys(file, ood, "ood", {"k"});
+    CheckKeys(file, ood, "ood", {"k", "score"});
     c.ood_k = GetOr<double>(file, ood, "k", c.ood_k);
+    c.ood_score = ParseImputeObjective(GetOr<std::string>(file, ood, "score", ToString(c.ood_score)));
     return c;
   });
 }
@@ -218,6 +219,8 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path) {
     m.score_mean = Get<double>(path, ood, "score_mean");
     m.score_std = Get<double>(path, ood, "score_std");
     m.ood_k = Get<double>(path, ood, "k");
+    // Bundles written before the key existed hold the paper's posterior score.
+    m.ood_score = ParseImputeObjective(GetOr<std::string>(path, ood, "score", "posterior"));
     ParseImpute(path, Section(path, root, "impute", false), &m.impute);
     if (const YAML::Node info = root["info"]) {
       for (const auto& kv : info) m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
@@ -242,6 +245,7 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m) {
   out << YAML::Key << "std" << YAML::Value << YAML::Flow << m.std;
   out << YAML::EndMap;
   out << YAML::Key << "ood" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "score" << YAML::Value << ToString(m.ood_score);
   out << YAML::Key << "score_mean" << YAML::Value << m.score_mean;
   out << YAML::Key << "score_std" << YAML::Value << m.score_std;
   out << YAML::Key << "k" << YAML::Value << m.ood_k;

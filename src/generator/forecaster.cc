@@ -75,7 +75,7 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
     const int64_t n = std::min<int64_t>(chunk, num_histories - first);
     std::vector<torch::Tensor> zc;
     for (const torch::Tensor& zp : z) zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
-    parts_out.push_back(impl_->net->forward(h.slice(0, first, first + n), zc).slice(1, g.t_his));
+    parts_out.push_back(impl_->net->forward(h.slice(0, first, first + n), zc, fixed).slice(1, g.t_his));
   }
   torch::Tensor y = (parts_out.size() == 1 ? parts_out[0] : torch::cat(parts_out, 0)).contiguous();  // [Bh*K, t_pred, N, 3]
   if (request.repair && impl_->repair) {

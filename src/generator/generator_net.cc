@@ -64,14 +64,22 @@ torch::Tensor GeneratorNetImpl::RepeatSamples(const torch::Tensor& coeffs, int64
   return coeffs.unsqueeze(2).expand({N, Bh, k, C}).reshape({N, Bh * k, C});
 }
 
-torch::Tensor GeneratorNetImpl::Decode(const torch::Tensor& coeffs, const std::vector<torch::Tensor>& z) {
+torch::Tensor GeneratorNetImpl::Decode(const torch::Tensor& coeffs, const std::vector<torch::Tensor>& z,
+                                       const std::vector<bool>& fixed, int64_t k) {
   if (z.size() != parts_.size()) {
     throw std::invalid_argument("generator: expected " + std::to_string(parts_.size()) +
                                 " latents (one per part), got " + std::to_string(z.size()));
   }
   torch::Tensor current = coeffs;
+  bool varied = false;  // has an earlier part varied across samples?
   for (size_t p = 0; p < parts_.size(); ++p) {
-    const torch::Tensor out = parts_[p]->forward(current, z[p]);
+    const bool is_fixed = p < fixed.size() && fixed[p];
+    torch::Tensor out = parts_[p]->forward(current, z[p]);
+    if (is_fixed && varied && k > 1) {
+      const int64_t N = out.size(0), B = out.size(1), C = out.size(2);
+      out = out.view({N, B / k, k, C}).select(2, 0).unsqueeze(2).expand({N, B / k, k, C}).reshape({N, B, C});
+    }
+    varied = varied || !is_fixed;
     current = torch::where(masks_[p], out, current);
   }
   return current;
@@ -83,13 +91,14 @@ torch::Tensor GeneratorNetImpl::Frames(const torch::Tensor& coeffs) const {
   return x.permute({1, 3, 0, 2});                                            // [B, T, N, 3]
 }
 
-torch::Tensor GeneratorNetImpl::forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z) {
+torch::Tensor GeneratorNetImpl::forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z,
+                                        const std::vector<bool>& fixed) {
   const int64_t Bh = history.size(0);
   if (z.empty() || z[0].size(0) % Bh != 0) {
     throw std::invalid_argument("generator: latents must hold Bh * K rows");
   }
   const int64_t k = z[0].size(0) / Bh;
-  return Frames(Decode(RepeatSamples(EncodeHistory(history), k), z));
+  return Frames(Decode(RepeatSamples(EncodeHistory(history), k), z, fixed, k));
 }
 
 }  // namespace motionfork

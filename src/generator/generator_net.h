@@ -27,13 +27,20 @@ class GeneratorNetImpl : public torch::nn::Module {
   static torch::Tensor RepeatSamples(const torch::Tensor& coeffs, int64_t k);
 
   // Runs the parts in order on coefficients [N, B, C] with one latent per part, z[p]: [B, nz].
-  torch::Tensor Decode(const torch::Tensor& coeffs, const std::vector<torch::Tensor>& z);
+  // fixed (empty = none): parts whose latent all K samples of a history share (B = Bh * K). A
+  // fixed part after a varying one would still vary through its input (the graph as the earlier
+  // parts left it), so its output is computed from the history's first sample and given to all
+  // K: the fixed part is then identical across samples, as control promises.
+  torch::Tensor Decode(const torch::Tensor& coeffs, const std::vector<torch::Tensor>& z,
+                       const std::vector<bool>& fixed = {}, int64_t k = 1);
 
   // Coefficients [N, B, C] -> frames [B, t_his + t_pred, N, 3].
   torch::Tensor Frames(const torch::Tensor& coeffs) const;
 
-  // history [Bh, t_his, N, 3], z[p]: [Bh * K, nz] -> [Bh * K, t_his + t_pred, N, 3].
-  torch::Tensor forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z);
+  // history [Bh, t_his, N, 3], z[p]: [Bh * K, nz] -> [Bh * K, t_his + t_pred, N, 3]. fixed: as
+  // for Decode.
+  torch::Tensor forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z,
+                        const std::vector<bool>& fixed = {});
 
   const GeneratorOptions& options() const { return options_; }
   int64_t num_parts() const { return static_cast<int64_t>(parts_.size()); }

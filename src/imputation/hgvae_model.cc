@@ -41,13 +41,14 @@ struct HgvaeModel::Impl {
     return static_cast<int64_t>(w.size() / per);
   }
 
-  // Objective of imputation per window and the paper's score, both [B].
+  // Per window [B]: the imputation objective `objective` and the bundle's OoD score.
   std::pair<torch::Tensor, torch::Tensor> Objective(const torch::Tensor& x, const torch::Tensor& labels,
                                                     ImputeObjective objective) const {
     const HgvaeOutput o = net->forward(x, labels, LatentMode::kPosteriorMean);
-    const torch::Tensor score = net->PosteriorScore(o);
-    if (objective == ImputeObjective::kPosterior) return {score, score};
-    return {score + HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar), score};
+    const torch::Tensor posterior = net->PosteriorScore(o);
+    const torch::Tensor joint = posterior + HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar);
+    auto pick = [&](ImputeObjective which) { return which == ImputeObjective::kPosterior ? posterior : joint; };
+    return {pick(objective), pick(manifest.ood_score)};
   }
 };
 
@@ -85,6 +86,11 @@ double HgvaeModel::OodThreshold() const {
 }
 
 std::vector<double> HgvaeModel::Score(const std::vector<float>& windows, int class_index) const {
+  return Score(windows, impl_->manifest.ood_score, class_index);
+}
+
+std::vector<double> HgvaeModel::Score(const std::vector<float>& windows, ImputeObjective score,
+                                      int class_index) const {
   const Impl& im = *impl_;
   const int64_t count = im.CheckWindows(windows, "Score");
   torch::NoGradGuard no_grad;
@@ -92,7 +98,7 @@ std::vector<double> HgvaeModel::Score(const std::vector<float>& windows, int cla
   for (int64_t s = 0; s < count; s += kChunk) {
     const int64_t n = std::min(kChunk, count - s);
     const torch::Tensor x = im.tensors->ToNodeMajor(windows.data() + s * im.T() * im.N(), n);
-    const torch::Tensor sc = im.Objective(x, im.Labels(class_index, n), ImputeObjective::kPosterior).second;
+    const torch::Tensor sc = im.Objective(x, im.Labels(class_index, n), score).first;
     const torch::Tensor d = sc.to(torch::kFloat64).contiguous();
     out.insert(out.end(), d.data_ptr<double>(), d.data_ptr<double>() + n);
   }
@@ -191,6 +197,7 @@ HgvaeWindowFigures HgvaeModel::Evaluate(const std::vector<float>& windows, uint6
     for (int64_t l = 0; l < im.net->num_levels(); ++l) append(f.kl_levels[l], o.kl_levels[l]);
     const HgvaeOutput om = im.net->forward(x, {}, LatentMode::kPosteriorMean);
     append(f.score, im.net->PosteriorScore(om));
+    append(f.joint_score, im.net->PosteriorScore(om) + HgvaeNetImpl::GaussianLogLik(x, om.x_mean, om.x_logvar));
     append(f.recon_mse, im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
   }
   return f;

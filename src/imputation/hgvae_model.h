@@ -19,7 +19,7 @@ namespace motionfork {
 
 struct ImputeResult {
   std::vector<float> windows;         // [count, T, N], observed values unchanged
-  std::vector<double> score_before;   // posterior score with the missing values at the mean
+  std::vector<double> score_before;   // the bundle's OoD score with the missing values at the mean
   std::vector<double> score_after;    // at the chosen step
   std::vector<int> best_step;         // 0 = the mean start was best
 };
@@ -27,6 +27,7 @@ struct ImputeResult {
 struct HgvaeWindowFigures {
   std::vector<double> elbo;        // evidence lower bound, nats per window (density in metres)
   std::vector<double> score;       // posterior score (the paper's p(z|x))
+  std::vector<double> joint_score; // posterior score + log p(x | posterior means)
   std::vector<double> recon_mse;   // squared error of the reconstruction (posterior means), m^2 per value
   std::vector<double> recon_mse_sampled;  // the same with latents sampled from the posterior
   std::vector<std::vector<double>> kl_levels;  // [level][window], nats
@@ -44,8 +45,11 @@ class HgvaeModel {
   // Class index of a name, -1 for "" ; throws std::invalid_argument listing the classes.
   int ClassIndex(const std::string& name) const;
 
-  // Posterior score per window (higher = more typical). class_index -1 = none.
+  // The bundle's out-of-distribution score per window (manifest().ood_score; higher = more
+  // typical). class_index -1 = none.
   std::vector<double> Score(const std::vector<float>& windows, int class_index = -1) const;
+  // Either score, whatever the bundle's.
+  std::vector<double> Score(const std::vector<float>& windows, ImputeObjective score, int class_index = -1) const;
   double OodThreshold() const;  // score_mean - k * score_std
   bool OutOfDistribution(double score) const { return score < OodThreshold(); }
 

@@ -69,6 +69,9 @@ struct HgvaeTrainConfig {
   HgvaeTrainOptions training;
   ImputeOptions impute;
   double ood_k = 2.0;  // a window is out of distribution when its score < mean - k * std
+  // The out-of-distribution score: kJoint (posterior score + log p(x | posterior means)) by
+  // default; kPosterior is the paper's, which on Bandai ranks mean-filled windows as more typical.
+  ImputeObjective ood_score = ImputeObjective::kJoint;
 };
 
 }  // namespace motionfork
@@ -88,7 +91,8 @@ struct HgvaeManifest {
   SkeletonSpec skeleton;             // the protocol skeleton (root first; the root is dropped)
   std::vector<std::string> classes;  // one-hot order; empty = unconditional model
   std::vector<double> mean, std;     // per coordinate [N]: normalisation, metres (root-relative)
-  double score_mean = 0, score_std = 0;  // posterior score of held-out training windows
+  ImputeObjective ood_score = ImputeObjective::kPosterior;  // what score_mean/std describe
+  double score_mean = 0, score_std = 0;  // that score on held-out training windows
   double ood_k = 2.0;
   ImputeOptions impute;              // defaults for `motionfork impute`
   std::vector<std::pair<std::string, std::string>> info;  // provenance

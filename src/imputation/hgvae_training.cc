@@ -12,6 +12,9 @@
 #include "dataset/windows.h"
 #include "imputation/hgvae_bundle.h"
 #include "imputation/hgvae_tensors.h"
+#include "config/hgvae_config.h"
+#include "imputation/hgvae_model.h"
+#include "io/file_util.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
 
@@ -190,7 +193,8 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
         elbo += (HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl).sum().item<double>();
         const HgvaeOutput om = net->forward(x, {}, LatentMode::kPosteriorMean);
         mse += norm.SquaredErrorMetres(x, om.x_mean).sum().item<double>();
-        const torch::Tensor sc = net->PosteriorScore(om);
+        torch::Tensor sc = net->PosteriorScore(om);
+        if (m.ood_score == ImputeObjective::kJoint) sc = sc + HgvaeNetImpl::GaussianLogLik(x, om.x_mean, om.x_logvar);
         for (int64_t i = 0; i < count; ++i) scores.push_back(sc[i].item<double>());
       }
     }
@@ -230,6 +234,23 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   }
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
+}
+
+void CalibrateOod(const std::string& dir, const HgvaeData& data, int held_out_windows, ImputeObjective score,
+                  double k) {
+  const HgvaeModel model = HgvaeModel::Load(dir);
+  const std::vector<float> held = HeldOutWindows(data.held_out, model.window(), model.coords(), held_out_windows);
+  const std::vector<double> s = model.Score(held, score);
+  double mean = 0, var = 0;
+  for (double v : s) mean += v;
+  mean /= static_cast<double>(s.size());
+  for (double v : s) var += (v - mean) * (v - mean);
+  HgvaeManifest m = model.manifest();
+  m.ood_score = score;
+  m.ood_k = k;
+  m.score_mean = mean;
+  m.score_std = std::sqrt(var / std::max<size_t>(1, s.size() - 1));
+  WriteFileAtomically((fs::path(dir) / "hgvae.yaml").string(), FormatHgvaeManifest(m));
 }
 
 }  // namespace motionfork

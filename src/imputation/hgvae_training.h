@@ -60,4 +60,9 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
                              const std::string& out_dir, const HgvaeTrainCallbacks& callbacks,
                              int stop_after_epochs = 0);
 
+// Recomputes a bundle's out-of-distribution statistics (mean and std of `score` over the held-out
+// windows) and rewrites DIR/hgvae.yaml with them: for bundles trained before a change of score.
+void CalibrateOod(const std::string& dir, const HgvaeData& data, int held_out_windows, ImputeObjective score,
+                  double k);
+
 }  // namespace motionfork

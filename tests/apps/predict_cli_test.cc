@@ -59,7 +59,7 @@ double PartSpread(const Prediction& p, const std::vector<int>& joints) {
 
 }  // namespace
 
-TEST_CASE("predict writes K futures with per-sample validity; --fix legs shares the legs; seeds") {
+TEST_CASE("predict writes K futures with per-sample validity, --fix shares a part, seeds") {
   Fixture f;
   Run r = f.Predict("a");
   INFO(r.output);
@@ -110,24 +110,30 @@ TEST_CASE("predict writes K futures with per-sample validity; --fix legs shares 
 
 TEST_CASE("predict refuses bad input with the file named and writes nothing") {
   Fixture f;
-  // A history with a NaN (a value of frame 4 replaced in the file's text).
-  {
+  // A history with a NaN: a value of frame `frame` replaced in the file's text (12 frames; the
+  // history is the last 5, frames 7..11).
+  auto with_nan = [&f](int frame, const std::string& name) {
     std::ifstream in(f.history);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), line, out;
     std::istringstream lines(text);
     int data_row = -1;
     while (std::getline(lines, line)) {
-      if (!line.empty() && line[0] != '#' && data_row++ == 4) line = "nan" + line.substr(line.find(','));
+      if (!line.empty() && line[0] != '#' && data_row++ == frame) line = "nan" + line.substr(line.find(','));
       out += line + "\n";
     }
-    std::ofstream(f.dir.file("nan.csv")) << out;
-  }
-  Run r = Motionfork("predict --model " + f.bundle + " --history " + f.dir.file("nan.csv") + " -k 4 -o " +
+    std::ofstream(f.dir.file(name)) << out;
+    return f.dir.file(name);
+  };
+  Run r = Motionfork("predict --model " + f.bundle + " --history " + with_nan(9, "nan.csv") + " -k 4 -o " +
                      f.dir.file("nan_out"));
   INFO(r.output);
   CHECK(r.status == 2);
-  CHECK_THAT(r.output, Contains("nan.csv"));
+  CHECK_THAT(r.output, Contains("nan.csv") && Contains("1 missing values") && Contains("--impute"));
   CHECK_FALSE(fs::exists(f.dir.file("nan_out.npy")));
+  // A NaN in a frame the history does not use is no obstacle.
+  r = Motionfork("predict --model " + f.bundle + " --history " + with_nan(2, "early_nan.csv") + " -k 4 -o " +
+                 f.dir.file("early_out"));
+  CHECK(r.status == 0);
   // Too short: 3 frames for a 5-frame history.
   WriteCsvMotion(f.dir.file("short.csv"), testing::TinyBundleHistory(3));
   r = Motionfork("predict --model " + f.bundle + " --history " + f.dir.file("short.csv") + " -k 4 -o " +

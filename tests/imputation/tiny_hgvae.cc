@@ -41,6 +41,7 @@ void WriteTinyHgvaeBundle(const std::string& dir, int window, int epochs) {
   base.skeleton = MakeHumanoid()->ToSpec();
   base.impute = cfg.impute;
   base.ood_k = cfg.ood_k;
+  base.ood_score = cfg.ood_score;
   TrainHgvae(cfg, base, TinyHgvaeData(), dir, {});
 }
 

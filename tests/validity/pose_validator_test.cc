@@ -37,7 +37,7 @@ Motion WithBackwardKnee(const Motion& walk, int from) {
   return Motion(walk.skeleton_ptr(), walk.fps(), std::move(p));
 }
 
-TEST_CASE("the demo walk is plausible; a backward knee violates and costs prior likelihood") {
+TEST_CASE("the demo walk is plausible, a backward knee violates and costs prior likelihood") {
   const auto skeleton = BandaiSkeleton();
   DemoWalkOptions options;
   options.frames = 45;
