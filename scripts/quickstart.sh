@@ -44,10 +44,14 @@ step "motionfork render: pictures"
 step "motionfork export: future 0 as BVH (open it in Blender, Maya, MotionBuilder)"
 "$MF" export "$DEMO/futures.json" --sample 0 -o "$DEMO/future_00.bvh"
 
+step "motionfork predict --impute: the left forearm and hand lost in the history, filled by the HG-VAE, then forecast"
+"$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 --impute "$MODEL/hgvae" \
+  --mask joints:LowerArm_L,Hand_L -o "$DEMO/imputed"
+
 echo
 echo "quickstart: done. Results in $DEMO:"
 for f in futures.npy futures.json same-legs.npy same-legs.json futures.png futures-overlay.png \
-         same-legs.png futures.html future_00.bvh; do
+         same-legs.png futures.html future_00.bvh imputed.npy imputed.json; do
   echo "  $DEMO/$f"
 done
 echo "Open the .png files in an image viewer and futures.html in a browser (it plays offline)."

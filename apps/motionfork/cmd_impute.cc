@@ -373,7 +373,8 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
       "impute",
       "Fill the missing values of a motion with an HG-VAE: NaN values in .npy, empty or nan fields in\n"
       ".csv, and/or --mask. Missing values start at the training mean and are moved by Adam to raise\n"
-      "the model's posterior; each window keeps its best step. Observed values are kept exactly.");
+      "the model's score (the bundle's objective); each window keeps its best step. Observed values\n"
+      "are kept exactly.");
   cmd->add_option("--model", o->model, "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae")->required();
   cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--mask", o->masks,

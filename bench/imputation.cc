@@ -1,0 +1,68 @@
+// Benchmark: HG-VAE imputation and scoring speed, one thread.
+//
+//   bench_imputation MODEL_DIR [--threads N] [--steps S]
+//
+// Windows are the model's own samples (no data needed), 10% of their values missing. Prints the
+// time to impute one window (the interactive case: one forecaster history) and the batched
+// throughput (256 windows at once), and the scoring throughput.
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "imputation/hgvae_model.h"
+#include "imputation/occlusion.h"
+#include "torch_util/blas_core.h"
+#include "torch_util/malloc_tuning.h"
+#include "torch_util/threads.h"
+
+using namespace motionfork;
+
+namespace {
+
+double Seconds(const std::chrono::steady_clock::time_point& t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  UseFastBlasKernels(argv);
+  KeepFreedMemory();
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: bench_imputation MODEL_DIR [--threads N] [--steps S]\n");
+    return 2;
+  }
+  int threads = 1, steps = -1;
+  for (int i = 2; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
+  }
+  PinThreads(threads);
+  const HgvaeModel model = HgvaeModel::Load(argv[1]);
+  ImputeOptions o = model.manifest().impute;
+  if (steps >= 0) o.steps = steps;
+  const int T = model.window(), N = model.coords();
+  std::printf("model %s: windows of %d frames x %d coordinates, %zu levels; %d threads, %d Adam steps (%s objective)\n",
+              argv[1], T, N, model.manifest().model.levels.size(), threads, o.steps, ToString(o.objective));
+  for (int batch : {1, 16, 256}) {
+    const std::vector<float> w = model.Sample(batch, -1, 1);
+    const std::vector<uint8_t> mask = RandomOcclusion(batch, T * N, 0.1, 2);
+    model.Impute(w, mask, o);  // warm-up
+    const int reps = batch == 1 ? 20 : batch == 16 ? 5 : 2;
+    auto t0 = std::chrono::steady_clock::now();
+    for (int r = 0; r < reps; ++r) model.Impute(w, mask, o);
+    const double s = Seconds(t0) / reps;
+    std::printf("impute %3d window%s: %8.1f ms  (%7.1f windows/s)\n", batch, batch == 1 ? " " : "s", 1e3 * s,
+                batch / s);
+  }
+  const std::vector<float> w = model.Sample(1024, -1, 3);
+  model.Score(w);
+  auto t0 = std::chrono::steady_clock::now();
+  model.Score(w);
+  const double s = Seconds(t0);
+  std::printf("score 1024 windows: %.1f ms (%.0f windows/s)\n", 1e3 * s, 1024 / s);
+  return 0;
+}
