@@ -69,9 +69,9 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, const GlobalOptions& g) {
   cb.message = [](const std::string& m) { std::printf("%s\n", m.c_str()); };
   const HgvaeTrainSummary s = TrainHgvae(cfg, base, data, o.out, cb, o.stop_after);
   if (s.first_epoch >= cfg.training.epochs) {
-    CalibrateOod(o.out, data, cfg.training.held_out_windows, cfg.ood_score, cfg.ood_k);
-    std::printf("all %d epochs were trained already; out-of-distribution statistics (%s score) recomputed; "
-                "bundle: %s\n",
+    RefreshBundleSettings(o.out, data, cfg);
+    std::printf("all %d epochs were trained already; imputation defaults, OoD score and its statistics (%s) "
+                "refreshed from the config; bundle: %s\n",
                 cfg.training.epochs, ToString(cfg.ood_score), o.out.c_str());
     return;
   }

@@ -236,18 +236,19 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   return summary;
 }
 
-void CalibrateOod(const std::string& dir, const HgvaeData& data, int held_out_windows, ImputeObjective score,
-                  double k) {
+void RefreshBundleSettings(const std::string& dir, const HgvaeData& data, const HgvaeTrainConfig& config) {
   const HgvaeModel model = HgvaeModel::Load(dir);
-  const std::vector<float> held = HeldOutWindows(data.held_out, model.window(), model.coords(), held_out_windows);
-  const std::vector<double> s = model.Score(held, score);
+  const std::vector<float> held =
+      HeldOutWindows(data.held_out, model.window(), model.coords(), config.training.held_out_windows);
+  const std::vector<double> s = model.Score(held, config.ood_score);
   double mean = 0, var = 0;
   for (double v : s) mean += v;
   mean /= static_cast<double>(s.size());
   for (double v : s) var += (v - mean) * (v - mean);
   HgvaeManifest m = model.manifest();
-  m.ood_score = score;
-  m.ood_k = k;
+  m.ood_score = config.ood_score;
+  m.ood_k = config.ood_k;
+  m.impute = config.impute;
   m.score_mean = mean;
   m.score_std = std::sqrt(var / std::max<size_t>(1, s.size() - 1));
   WriteFileAtomically((fs::path(dir) / "hgvae.yaml").string(), FormatHgvaeManifest(m));

@@ -60,9 +60,9 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
                              const std::string& out_dir, const HgvaeTrainCallbacks& callbacks,
                              int stop_after_epochs = 0);
 
-// Recomputes a bundle's out-of-distribution statistics (mean and std of `score` over the held-out
-// windows) and rewrites DIR/hgvae.yaml with them: for bundles trained before a change of score.
-void CalibrateOod(const std::string& dir, const HgvaeData& data, int held_out_windows, ImputeObjective score,
-                  double k);
+// Rewrites a trained bundle's settings that do not change its weights from `config`: the
+// imputation defaults, the out-of-distribution score and k, and that score's statistics over the
+// held-out windows (recomputed). `hgvae train` does this on a run whose epochs are all done.
+void RefreshBundleSettings(const std::string& dir, const HgvaeData& data, const HgvaeTrainConfig& config);
 
 }  // namespace motionfork
