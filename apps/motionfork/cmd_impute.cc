@@ -219,9 +219,12 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   const int T = model.window(), N = model.coords();
   const int count = static_cast<int>(windows.size() / (static_cast<size_t>(T) * N));
   json j = {{"model", o.model}, {"protocol", m.protocol}, {"windows", count}, {"window_frames", T},
+            {"parameters", model.num_parameters()},
             {"stochastic_levels", m.model.stochastic_levels == 0 ? static_cast<int>(m.model.levels.size())
                                                                    : m.model.stochastic_levels}};
-  std::printf("HG-VAE %s on the %s test split: %d windows of %d frames\n", o.model.c_str(), m.protocol.c_str(), count, T);
+  std::printf("HG-VAE %s (%s parameters, %zu levels, %d stochastic) on the %s test split: %d windows of %d frames\n",
+              o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
+              j["stochastic_levels"].get<int>(), m.protocol.c_str(), count, T);
 
   // Likelihood: ELBO, reconstruction, KL per level.
   const HgvaeWindowFigures f = model.Evaluate(windows, o.seed);
@@ -282,9 +285,9 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     std::snprintf(name, sizeof(name), "%.3g%% values -> mean", 100 * s);
     degraded.push_back({name, ReplaceWithMean(model, windows, s, o.seed + 7)});
   }
-  degraded.push_back({"bones x1.5", ScaleBones(model.skeleton(), windows, T, 1.5f)});
-  degraded.push_back({"bones x0.7", ScaleBones(model.skeleton(), windows, T, 0.7f)});
-  degraded.push_back({"shuffled frames", ShuffleFrames(windows, T, N, o.seed + 11)});
+  degraded.push_back({"bones x1.5", ScaleBones(model.skeleton(), windows, 1.5f)});
+  degraded.push_back({"bones x0.7", ScaleBones(model.skeleton(), windows, 0.7f)});
+  degraded.push_back({"shuffled frames", ShuffleFrames(windows, N, o.seed + 11)});
   std::printf("\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; share flagged "
               "by the bundle's rule (%s score < %.1f)\n", ToString(m.ood_score), model.OodThreshold());
   int clean_flagged = 0;

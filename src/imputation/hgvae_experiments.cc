@@ -75,11 +75,10 @@ std::vector<float> ReplaceWithMean(const HgvaeModel& model, const std::vector<fl
   return model.MeanImpute(windows, RandomOcclusion(count, values, share, seed));
 }
 
-std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows, int frames, float factor) {
+std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows, float factor) {
   const int J = skeleton.num_joints(), N = 3 * (J - 1);
   std::vector<float> out(windows.size());
   const size_t poses = windows.size() / N;
-  (void)frames;
   for (size_t p = 0; p < poses; ++p) {
     const float* src = windows.data() + p * N;
     float* dst = out.data() + p * N;
@@ -95,7 +94,7 @@ std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>
   return out;
 }
 
-std::vector<float> ShuffleFrames(const std::vector<float>& windows, int frames, int coords, uint64_t seed) {
+std::vector<float> ShuffleFrames(const std::vector<float>& windows, int coords, uint64_t seed) {
   const size_t poses = windows.size() / coords;
   std::mt19937_64 rng(seed);
   std::uniform_int_distribution<size_t> pick(0, poses - 1);
@@ -104,7 +103,6 @@ std::vector<float> ShuffleFrames(const std::vector<float>& windows, int frames, 
     const size_t q = pick(rng);
     std::copy(windows.begin() + q * coords, windows.begin() + (q + 1) * coords, out.begin() + p * coords);
   }
-  (void)frames;
   return out;
 }
 

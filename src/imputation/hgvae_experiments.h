@@ -44,9 +44,9 @@ double Auroc(const std::vector<double>& clean, const std::vector<double>& degrad
 std::vector<float> ReplaceWithMean(const HgvaeModel& model, const std::vector<float>& windows, double share,
                                    uint64_t seed);
 // Impossible bodies: every bone scaled by `factor` (root-relative, through the skeleton's parents).
-std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows, int frames, float factor);
+std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows, float factor);
 // Impossible motion: each frame replaced by a frame of another random window (teleporting poses).
-std::vector<float> ShuffleFrames(const std::vector<float>& windows, int frames, int coords, uint64_t seed);
+std::vector<float> ShuffleFrames(const std::vector<float>& windows, int coords, uint64_t seed);
 
 // The standard occlusion settings of the issue: random 1%, 10%, 50%, 90% of values, and each
 // whole limb (arms, legs below the hip or shoulder) over the window, by the skeleton's names

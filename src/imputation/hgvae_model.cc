@@ -68,6 +68,11 @@ const HgvaeManifest& HgvaeModel::manifest() const { return impl_->manifest; }
 const Skeleton& HgvaeModel::skeleton() const { return *impl_->skeleton; }
 int HgvaeModel::window() const { return static_cast<int>(impl_->T()); }
 int HgvaeModel::coords() const { return static_cast<int>(impl_->N()); }
+int64_t HgvaeModel::num_parameters() const {
+  int64_t n = 0;
+  for (const auto& p : impl_->net->parameters()) n += p.numel();
+  return n;
+}
 
 int HgvaeModel::ClassIndex(const std::string& name) const {
   if (name.empty()) return -1;

@@ -42,6 +42,7 @@ class HgvaeModel {
   const Skeleton& skeleton() const;
   int window() const;  // frames
   int coords() const;  // N
+  int64_t num_parameters() const;
   // Class index of a name, -1 for "" ; throws std::invalid_argument listing the classes.
   int ClassIndex(const std::string& name) const;
 
