@@ -382,7 +382,8 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--mask", o->masks,
                   "Values to treat as missing, repeatable: random:SHARE (e.g. random:0.1), joints:A,B (every "
-                  "frame) or joints:A,B@FIRST-LAST (0-based frames)");
+                  "frame), joints:A,B@FIRST-LAST (0-based frames), or MASK.npy ([T, J] or [T, J, 3], non-zero = "
+                  "missing)");
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   cmd->add_option("--seed", o->seed, "Seed of random masks (default 0)");
   AddImputeFlags(cmd, &o->flags);

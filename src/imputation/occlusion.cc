@@ -7,6 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/npy.h"
+
 namespace motionfork {
 
 std::vector<uint8_t> RandomOcclusion(int count, int values, double share, uint64_t seed) {
@@ -49,6 +51,28 @@ std::vector<uint8_t> MaskFromSpec(const std::string& spec, const Skeleton& skele
   const int J = skeleton.num_joints();
   const size_t per_frame = static_cast<size_t>(J) * 3;
   std::vector<uint8_t> mask(static_cast<size_t>(frames) * per_frame, 0);
+  if (spec.size() > 4 && spec.compare(spec.size() - 4, 4, ".npy") == 0) {
+    const NpyArray a = ReadNpy(spec);
+    const bool per_joint = a.shape.size() == 2, per_value = a.shape.size() == 3 && a.shape[2] == 3;
+    if (!(per_joint || per_value) || a.shape[0] != frames || a.shape[1] != J) {
+      std::string shape;
+      for (int64_t d : a.shape) shape += (shape.empty() ? "" : ", ") + std::to_string(d);
+      throw std::invalid_argument("mask file " + spec + ": expected shape [" + std::to_string(frames) + ", " +
+                                  std::to_string(J) + "] or [" + std::to_string(frames) + ", " + std::to_string(J) +
+                                  ", 3] (frames x joints of the motion), found [" + shape + "]");
+    }
+    for (size_t i = 0; i < mask.size(); ++i) {
+      const size_t src = per_joint ? i / 3 : i;
+      mask[i] = a.data[src] != 0.0f;
+    }
+    for (int t = 0; t < frames; ++t) {
+      if (mask[t * per_frame] || mask[t * per_frame + 1] || mask[t * per_frame + 2]) {
+        throw std::invalid_argument("mask file " + spec + ": frame " + std::to_string(t) + " marks the root '" +
+                                    skeleton.joint_name(0) + "' missing; it must be known (poses are root-relative)");
+      }
+    }
+    return mask;
+  }
   const auto colon = spec.find(':');
   const std::string kind = spec.substr(0, colon), arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
   const std::string usage = " (expected random:SHARE, joints:NAME,NAME or joints:NAME,NAME@FIRST-LAST)";

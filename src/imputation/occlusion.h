@@ -23,8 +23,11 @@ std::vector<uint8_t> JointOcclusion(int count, int frames, int num_joints, const
 //   random:SHARE            a share (0..1) of every value, at random (seed)
 //   joints:A,B,...          these joints in every frame
 //   joints:A,B@FIRST-LAST   these joints in frames FIRST..LAST (0-based, inclusive)
+//   FILE.npy                a joints x frames mask: [T, J] (a joint's three values) or [T, J, 3],
+//                           non-zero = missing, on the motion's joints after mapping
 // Throws std::invalid_argument naming the unknown joint (and listing the skeleton's), the root
-// (poses are root-relative: it cannot be missing), or frames outside 0..T-1.
+// (poses are root-relative: it cannot be missing), frames outside 0..T-1, or a mask file of
+// another shape (FormatError for an unreadable one).
 std::vector<uint8_t> MaskFromSpec(const std::string& spec, const Skeleton& skeleton, int frames, uint64_t seed);
 
 }  // namespace motionfork

@@ -5,6 +5,7 @@
 
 #include "imputation/hgvae_experiments.h"
 #include "imputation/occlusion.h"
+#include "io/npy.h"
 #include "test_support.h"
 
 using namespace motionfork;
@@ -54,6 +55,21 @@ TEST_CASE("occlusion: mask specs and their errors") {
   CHECK_THROWS_WITH(MaskFromSpec("joints:Head@4-9", *skel, 6, 0), Contains("0..5"));
   CHECK_THROWS_WITH(MaskFromSpec("random:2", *skel, 6, 0), Contains("between 0 and 1"));
   CHECK_THROWS_WITH(MaskFromSpec("nose", *skel, 6, 0), Contains("expected random:SHARE"));
+}
+
+TEST_CASE("occlusion: a joints x frames mask file") {
+  const auto skel = testing::MakeHumanoid();
+  testing::TempDir dir;
+  NpyArray a{{4, 17}, std::vector<float>(68, 0.0f)};
+  a.data[2 * 17 + 13] = 1;  // frame 2, Hand_L
+  WriteNpy(dir.file("m.npy"), a);
+  const auto m = MaskFromSpec(dir.file("m.npy"), *skel, 4, 0);
+  CHECK(std::accumulate(m.begin(), m.end(), 0) == 3);
+  CHECK(m[2 * 51 + 39] == 1);
+  CHECK_THROWS_WITH(MaskFromSpec(dir.file("m.npy"), *skel, 5, 0), Contains("[5, 17]") && Contains("[4, 17]"));
+  a.data[17] = 1;  // frame 1, the root
+  WriteNpy(dir.file("root.npy"), a);
+  CHECK_THROWS_WITH(MaskFromSpec(dir.file("root.npy"), *skel, 4, 0), Contains("frame 1") && Contains("root"));
 }
 
 TEST_CASE("auroc: perfect, reversed, ties and chance") {
