@@ -126,7 +126,7 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   HgvaeTrainSummary summary;
   summary.first_epoch = LoadCheckpoint(ckpt.string(), "hgvae.pt", *net, adam);
   if (summary.first_epoch > 0) {
-    if (cb.message) cb.message("resuming from " + ckpt.string() + " at epoch " + std::to_string(summary.first_epoch + 1));
+    if (cb.message) cb.message("resuming from " + ckpt.string() + " after epoch " + std::to_string(summary.first_epoch));
   }
   std::vector<int> frames;
   for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
