@@ -86,8 +86,9 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
     std::copy(r.motion.positions().begin(), r.motion.positions().end(), pos.begin() + start * frame_values);
     history = Motion(history.skeleton_ptr(), history.fps(), std::move(pos));
     imputation = HistoryImputation{o.impute, num_missing, r.score_before.at(0), r.score_after.at(0)};
-    std::printf("imputed %d missing history values with %s (posterior score %.1f -> %.1f)\n", num_missing,
-                o.impute.c_str(), imputation->score_before, imputation->score_after);
+    std::printf("imputed %d missing history values with %s (%s score %.1f -> %.1f; training windows %.1f +- %.1f)\n",
+                num_missing, o.impute.c_str(), ToString(hg.manifest().ood_score), imputation->score_before,
+                imputation->score_after, hg.manifest().score_mean, hg.manifest().score_std);
   }
   ForecastRequest req;
   req.k = o.k;
