@@ -45,10 +45,8 @@ struct HgvaeModel::Impl {
   std::pair<torch::Tensor, torch::Tensor> Objective(const torch::Tensor& x, const torch::Tensor& labels,
                                                     ImputeObjective objective) const {
     const HgvaeOutput o = net->forward(x, labels, LatentMode::kPosteriorMean);
-    const torch::Tensor posterior = net->PosteriorScore(o);
-    const torch::Tensor joint = posterior + HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar);
-    auto pick = [&](ImputeObjective which) { return which == ImputeObjective::kPosterior ? posterior : joint; };
-    return {pick(objective), pick(manifest.ood_score)};
+    const torch::Tensor first = net->Score(x, o, objective);
+    return {first, objective == manifest.ood_score ? first : net->Score(x, o, manifest.ood_score)};
   }
 };
 
@@ -201,8 +199,8 @@ HgvaeWindowFigures HgvaeModel::Evaluate(const std::vector<float>& windows, uint6
     append(f.recon_mse_sampled, im.tensors->SquaredErrorMetres(x, o.x_mean).mean(std::vector<int64_t>{0, 2}));
     for (int64_t l = 0; l < im.net->num_levels(); ++l) append(f.kl_levels[l], o.kl_levels[l]);
     const HgvaeOutput om = im.net->forward(x, {}, LatentMode::kPosteriorMean);
-    append(f.score, im.net->PosteriorScore(om));
-    append(f.joint_score, im.net->PosteriorScore(om) + HgvaeNetImpl::GaussianLogLik(x, om.x_mean, om.x_logvar));
+    append(f.score, im.net->Score(x, om, ImputeObjective::kPosterior));
+    append(f.joint_score, im.net->Score(x, om, ImputeObjective::kJoint));
     append(f.recon_mse, im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
   }
   return f;

@@ -210,4 +210,9 @@ torch::Tensor HgvaeNetImpl::PosteriorScore(const HgvaeOutput& out) const {
   return score;
 }
 
+torch::Tensor HgvaeNetImpl::Score(const torch::Tensor& x, const HgvaeOutput& out, ImputeObjective which) const {
+  const torch::Tensor posterior = PosteriorScore(out);
+  return which == ImputeObjective::kPosterior ? posterior : posterior + GaussianLogLik(x, out.x_mean, out.x_logvar);
+}
+
 }  // namespace motionfork

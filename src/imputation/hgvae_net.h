@@ -80,6 +80,9 @@ class HgvaeNetImpl : public torch::nn::Module {
   // The paper's posterior score per window [B]: sum over stochastic levels of
   // log N(post_mean_l | prior_mean_l, prior_var_l).
   torch::Tensor PosteriorScore(const HgvaeOutput& out) const;
+  // Either window score [B] of a posterior-mean pass `out` of x: kPosterior = PosteriorScore,
+  // kJoint = PosteriorScore + log p(x | posterior means).
+  torch::Tensor Score(const torch::Tensor& x, const HgvaeOutput& out, ImputeObjective which) const;
 
   int64_t num_levels() const { return static_cast<int64_t>(options_.levels.size()); }
   bool stochastic(int64_t level) const;

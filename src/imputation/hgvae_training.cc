@@ -99,6 +99,16 @@ void ComputeNormalisation(const HgvaeClips& clips, int coords, HgvaeManifest* m)
   }
 }
 
+// The OoD statistics of a bundle: mean and sample standard deviation of held-out windows' scores.
+void SetScoreStatistics(const std::vector<double>& scores, HgvaeManifest* m) {
+  double mean = 0, var = 0;
+  for (double s : scores) mean += s;
+  mean /= std::max<size_t>(1, scores.size());
+  for (double s : scores) var += (s - mean) * (s - mean);
+  m->score_mean = mean;
+  m->score_std = std::sqrt(var / std::max<size_t>(1, scores.size() - 1));
+}
+
 double KlWeight(const HgvaeTrainOptions& t, double epoch_progress) {
   if (t.kl_warmup_epochs <= 0) return 1.0;
   const double f = std::min(1.0, epoch_progress / t.kl_warmup_epochs);
@@ -130,8 +140,7 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   }
   std::vector<int> frames;
   for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
-  std::vector<int> held_labels;
-  const std::vector<float> held = HeldOutWindows(data.held_out, T, N, t.held_out_windows, &held_labels);
+  const std::vector<float> held = HeldOutWindows(data.held_out, T, N, t.held_out_windows);
   const int64_t num_held = static_cast<int64_t>(held.size() / (static_cast<size_t>(T) * N));
   const int C = static_cast<int>(m.classes.size());
   const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
@@ -193,17 +202,11 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
         elbo += (HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl).sum().item<double>();
         const HgvaeOutput om = net->forward(x, {}, LatentMode::kPosteriorMean);
         mse += norm.SquaredErrorMetres(x, om.x_mean).sum().item<double>();
-        torch::Tensor sc = net->PosteriorScore(om);
-        if (m.ood_score == ImputeObjective::kJoint) sc = sc + HgvaeNetImpl::GaussianLogLik(x, om.x_mean, om.x_logvar);
+        const torch::Tensor sc = net->Score(x, om, m.ood_score);
         for (int64_t i = 0; i < count; ++i) scores.push_back(sc[i].item<double>());
       }
     }
-    double mean = 0, var = 0;
-    for (double s : scores) mean += s;
-    mean /= std::max<size_t>(1, scores.size());
-    for (double s : scores) var += (s - mean) * (s - mean);
-    m.score_mean = mean;
-    m.score_std = std::sqrt(var / std::max<size_t>(1, scores.size() - 1));
+    SetScoreStatistics(scores, &m);
     HgvaeEpochLog log;
     log.epoch = epoch;
     log.kl_weight = beta;
@@ -240,17 +243,11 @@ void RefreshBundleSettings(const std::string& dir, const HgvaeData& data, const 
   const HgvaeModel model = HgvaeModel::Load(dir);
   const std::vector<float> held =
       HeldOutWindows(data.held_out, model.window(), model.coords(), config.training.held_out_windows);
-  const std::vector<double> s = model.Score(held, config.ood_score);
-  double mean = 0, var = 0;
-  for (double v : s) mean += v;
-  mean /= static_cast<double>(s.size());
-  for (double v : s) var += (v - mean) * (v - mean);
   HgvaeManifest m = model.manifest();
+  SetScoreStatistics(model.Score(held, config.ood_score), &m);
   m.ood_score = config.ood_score;
   m.ood_k = config.ood_k;
   m.impute = config.impute;
-  m.score_mean = mean;
-  m.score_std = std::sqrt(var / std::max<size_t>(1, s.size() - 1));
   WriteFileAtomically((fs::path(dir) / "hgvae.yaml").string(), FormatHgvaeManifest(m));
 }
 
