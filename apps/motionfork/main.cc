@@ -7,6 +7,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "dvae_commands.h"
 #include "hgvae_commands.h"
 #include "core/error.h"
 #include "torch_util/blas_core.h"
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
   AddHgvaeCommand(app, global);
   AddImputeCommand(app, global);
   AddOodCommand(app, global);
+  AddDvaeCommand(app, global);
+  AddDenoiseCommand(app, global);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,156 @@
+#include "denoise/dvae_model.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+
+#include "denoise/dvae_bundle.h"
+#include "denoise/dvae_objective.h"
+#include "denoise/dvae_windows.h"
+
+namespace motionfork {
+
+struct DvaeModel::Impl {
+  DvaeManifest manifest;
+  DvaeNet net{nullptr};
+  std::unique_ptr<DvaeTensors> norm;
+  std::shared_ptr<const Skeleton> skeleton;
+  std::mutex mutex;  // optimisation mode changes the encoder's weights for a while
+};
+
+DvaeModel DvaeModel::Load(const std::string& dir) {
+  DvaeModel model;
+  model.impl_ = std::make_shared<Impl>();
+  Impl& i = *model.impl_;
+  i.net = LoadDvaeBundle(dir, &i.manifest);
+  for (torch::Tensor& p : i.net->DecoderParameters()) p.set_requires_grad(false);
+  i.norm = std::make_unique<DvaeTensors>(i.manifest);
+  i.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(i.manifest.skeleton));
+  return model;
+}
+
+const DvaeManifest& DvaeModel::manifest() const { return impl_->manifest; }
+const Skeleton& DvaeModel::skeleton() const { return *impl_->skeleton; }
+int DvaeModel::window() const { return impl_->manifest.model.window; }
+int DvaeModel::joints() const { return impl_->skeleton->num_joints(); }
+
+int64_t DvaeModel::num_parameters() const {
+  int64_t n = 0;
+  for (const torch::Tensor& p : impl_->net->parameters()) n += p.numel();
+  return n;
+}
+
+namespace {
+
+constexpr int64_t kChunk = 256;  // windows per pass
+
+void CheckSequences(const std::vector<std::vector<float>>& sequences, int joints) {
+  const size_t F = static_cast<size_t>(joints) * 3;
+  for (size_t s = 0; s < sequences.size(); ++s) {
+    const std::vector<float>& q = sequences[s];
+    if (q.empty() || q.size() % F != 0) {
+      throw std::invalid_argument("denoise: sequence " + std::to_string(s) + " has " + std::to_string(q.size()) +
+                                  " values, expected frames x " + std::to_string(joints) + " joints x 3");
+    }
+    for (size_t k = 0; k < q.size(); ++k) {
+      if (!std::isfinite(q[k])) {
+        throw std::invalid_argument("denoise: sequence " + std::to_string(s) + " frame " + std::to_string(k / F) +
+                                    " joint " + std::to_string((k % F) / 3) + " is not finite (" +
+                                    std::to_string(q[k]) + "); fill missing values first (motionfork impute)");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector<float>>& sequences,
+                                                   const DenoiseOptions& options, DenoiseStats* stats) const {
+  Impl& i = *impl_;
+  std::lock_guard<std::mutex> lock(i.mutex);
+  const auto start = std::chrono::steady_clock::now();
+  const int J = joints(), F = 3 * J;
+  CheckSequences(sequences, J);
+  std::vector<int> frames;
+  for (const auto& q : sequences) frames.push_back(static_cast<int>(q.size() / F));
+  std::vector<WindowCut> cuts = CutWindows(frames, window(), options.stride);
+  std::vector<std::vector<float>> values(cuts.size());
+  for (size_t w = 0; w < cuts.size(); ++w) values[w] = WindowValues(sequences[cuts[w].sequence].data(), J, &cuts[w]);
+
+  // Batches: windows of one length (and, in optimisation mode, of one sequence).
+  const bool optimise = options.mode == DenoiseMode::kOptimisation && options.iterations > 0;
+  std::map<std::pair<int, int>, std::vector<size_t>> groups;  // (sequence or -1, length) -> windows
+  for (size_t w = 0; w < cuts.size(); ++w) groups[{optimise ? cuts[w].sequence : -1, cuts[w].length}].push_back(w);
+
+  at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(options.seed);
+  std::vector<double> noise_sum(J, 0.0);
+  double noise_count = 0;
+  std::vector<torch::Tensor> encoder = i.net->EncoderParameters(), saved;
+  for (const auto& [key, members] : groups) {
+    const int64_t L = key.second;
+    for (size_t c0 = 0; c0 < members.size(); c0 += kChunk) {
+      const size_t c1 = std::min(members.size(), c0 + static_cast<size_t>(kChunk));
+      std::vector<float> batch;
+      for (size_t k = c0; k < c1; ++k) batch.insert(batch.end(), values[members[k]].begin(), values[members[k]].end());
+      const int64_t B = static_cast<int64_t>(c1 - c0);
+      const torch::Tensor y = i.norm->Normalise(batch.data(), B, L).clone();
+      if (optimise) {
+        // Adam on this sequence's own unsupervised loss, from the bundle's weights; restored after.
+        saved.clear();
+        for (const torch::Tensor& p : encoder) saved.push_back(p.detach().clone());
+        i.net->train();
+        torch::optim::Adam adam(encoder, torch::optim::AdamOptions(options.learning_rate));
+        for (int it = 0; it < options.iterations; ++it) {
+          const DenoiseTerms t = DenoiseObjective(i.net, *i.norm, y, 1.0, options.bone_weight, gen);
+          adam.zero_grad();
+          t.loss.backward();
+          adam.step();
+        }
+        i.net->eval();
+      }
+      torch::Tensor out, var;
+      {
+        torch::NoGradGuard no_grad;
+        out = DenoiseOutput(i.net, *i.norm, y, options.samples, options.fuse, gen, &var);
+      }
+      if (optimise) {
+        torch::NoGradGuard no_grad;
+        for (size_t p = 0; p < encoder.size(); ++p) encoder[p].copy_(saved[p]);
+      }
+      const std::vector<float> metres = i.norm->Denormalise(out);
+      for (size_t k = c0; k < c1; ++k) {
+        const size_t off = (k - c0) * static_cast<size_t>(L) * F;
+        values[members[k]].assign(metres.begin() + off, metres.begin() + off + static_cast<size_t>(L) * F);
+      }
+      const torch::Tensor joint_var = (var * i.norm->std().pow(2)).reshape({B * L, J, 3}).sum(2).sum(0);
+      for (int j = 0; j < J; ++j) noise_sum[j] += joint_var[j].item<double>() / 3.0;
+      noise_count += static_cast<double>(B * L);
+    }
+  }
+  std::vector<std::vector<float>> result = BlendWindows(cuts, values, frames, J);
+  if (stats) {
+    stats->windows = static_cast<int>(cuts.size());
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->noise_std.assign(J, 0.0);
+    for (int j = 0; j < J; ++j) stats->noise_std[j] = std::sqrt(noise_sum[j] / std::max(1.0, noise_count));
+  }
+  return result;
+}
+
+Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options, DenoiseStats* stats) {
+  const Skeleton& want = model.skeleton();
+  if (motion.skeleton().joint_names() != want.joint_names()) {
+    throw std::invalid_argument("the motion's joints do not match the Motion-DVAE's skeleton '" + want.name() +
+                                "' (" + std::to_string(want.num_joints()) + " joints; pass --skeleton to map them)");
+  }
+  if (std::abs(motion.fps() - model.manifest().fps) > 1e-6) {
+    throw std::invalid_argument("the motion is at " + std::to_string(motion.fps()) + " Hz, the Motion-DVAE at " +
+                                std::to_string(model.manifest().fps) + " Hz");
+  }
+  std::vector<std::vector<float>> out = model.Denoise({motion.positions()}, options, stats);
+  return Motion(motion.skeleton_ptr(), motion.fps(), std::move(out[0]));
+}
+
+}  // namespace motionfork

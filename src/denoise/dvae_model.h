@@ -1,0 +1,54 @@
+// A trained Motion-DVAE, ready to use (no LibTorch in this header): denoising of whole sequences
+// in regression mode (one pass of the fine-tuned encoder) or optimisation mode (the encoder,
+// initial-state and noise predictors take Adam steps on the sequence's own loss first; the
+// bundle is left unchanged), reconstruction and sampling with the prior.
+//
+// Sequences are [frames, joints, 3] floats on the bundle's skeleton and frame rate, metres.
+// Long sequences are cut into windows of window() frames every `stride` frames and blended.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/motion.h"
+#include "core/skeleton.h"
+#include "denoise/dvae_options.h"
+
+namespace motionfork {
+
+struct DenoiseStats {
+  int windows = 0;
+  double seconds = 0;              // wall time of the denoising (not loading)
+  std::vector<double> noise_std;   // per joint: the noise model's typical std (sqrt(beta / alpha)), metres
+};
+
+class DvaeModel {
+ public:
+  // Reads DIR/dvae.yaml and DIR/dvae.pt. Throws FormatError naming the missing or bad file.
+  static DvaeModel Load(const std::string& dir);
+
+  const DvaeManifest& manifest() const;
+  const Skeleton& skeleton() const;
+  int window() const;
+  int joints() const;
+  int64_t num_parameters() const;
+
+  // Denoised copies of the sequences (each >= 2 frames). Deterministic for options.seed.
+  // Throws std::invalid_argument for a sequence whose size is not a multiple of joints x 3 or
+  // that holds a non-finite value (naming the sequence and frame).
+  std::vector<std::vector<float>> Denoise(const std::vector<std::vector<float>>& sequences,
+                                          const DenoiseOptions& options, DenoiseStats* stats = nullptr) const;
+
+ private:
+  struct Impl;
+  std::shared_ptr<Impl> impl_;
+};
+
+// A motion on the model's skeleton (same joint names, in order) and frame rate, denoised. Throws
+// std::invalid_argument naming what does not match.
+Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options,
+                     DenoiseStats* stats = nullptr);
+
+}  // namespace motionfork
