@@ -1,0 +1,116 @@
+// Motion corruptions, windows and figures of the denoising module (no LibTorch).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "core/motion_noise.h"
+#include "denoise/denoise_metrics.h"
+#include "denoise/dvae_windows.h"
+#include "test_support.h"
+
+using namespace motionfork;
+using Catch::Contains;
+
+TEST_CASE("noise specs parse and bad ones name the expected forms") {
+  const NoiseSpec g = ParseNoiseSpec("gaussian:0.05");
+  CHECK(g.kind == NoiseSpec::Kind::kGaussian);
+  CHECK(g.sigma == Approx(0.05));
+  const NoiseSpec o = ParseNoiseSpec("outliers:0.1,0.3");
+  CHECK(o.kind == NoiseSpec::Kind::kOutliers);
+  CHECK(o.rate == Approx(0.1));
+  CHECK(o.sigma == Approx(0.3));
+  CHECK(ParseNoiseSpec("jitter:0.02").kind == NoiseSpec::Kind::kJitter);
+  CHECK_THROWS_WITH(ParseNoiseSpec("gauss:0.1"), Contains("unknown kind") && Contains("gaussian:S"));
+  CHECK_THROWS_WITH(ParseNoiseSpec("gaussian"), Contains("no ':'"));
+  CHECK_THROWS_WITH(ParseNoiseSpec("gaussian:abc"), Contains("not a number"));
+  CHECK_THROWS_WITH(ParseNoiseSpec("outliers:1.5,0.1"), Contains("P must be in [0, 1]"));
+  CHECK_THROWS_WITH(ParseNoiseSpec("gaussian:-1"), Contains("S must be"));
+}
+
+TEST_CASE("noise kinds have the documented statistics") {
+  const Motion clean = testing::MakeWalkingMotion(400);
+  const int J = clean.num_joints();
+  SECTION("gaussian: every value, standard deviation S") {
+    const Motion n = AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 1);
+    double sq = 0;
+    for (size_t i = 0; i < n.positions().size(); ++i) sq += std::pow(n.positions()[i] - clean.positions()[i], 2);
+    CHECK(std::sqrt(sq / n.positions().size()) == Approx(0.05).epsilon(0.03));
+  }
+  SECTION("jitter: one offset per frame, shared by every joint") {
+    const Motion n = AddNoise(clean, ParseNoiseSpec("jitter:0.05"), 2);
+    for (int t = 0; t < 10; ++t) {
+      const float d0 = n.at(t, 0)[1] - clean.at(t, 0)[1];
+      CHECK(d0 != 0.0f);
+      for (int j = 1; j < J; ++j) CHECK(n.at(t, j)[1] - clean.at(t, j)[1] == Approx(d0).margin(1e-5));
+    }
+  }
+  SECTION("outliers: about P of the joints move, the rest stay") {
+    const Motion n = AddNoise(clean, ParseNoiseSpec("outliers:0.1,0.3"), 3);
+    int moved = 0;
+    for (int t = 0; t < clean.num_frames(); ++t) {
+      for (int j = 0; j < J; ++j) moved += n.at(t, j)[0] != clean.at(t, j)[0];
+    }
+    CHECK(double(moved) / (clean.num_frames() * J) == Approx(0.1).margin(0.02));
+  }
+  SECTION("the same seed gives the same noise") {
+    CHECK(AddNoise(clean, ParseNoiseSpec("gaussian:0.02"), 9).positions() ==
+          AddNoise(clean, ParseNoiseSpec("gaussian:0.02"), 9).positions());
+    CHECK(AddNoise(clean, ParseNoiseSpec("gaussian:0.02"), 9).positions() !=
+          AddNoise(clean, ParseNoiseSpec("gaussian:0.02"), 10).positions());
+  }
+}
+
+TEST_CASE("windows cover every frame and blending unchanged windows gives the sequences back") {
+  const std::vector<int> frames = {100, 30, 7, 31};
+  const std::vector<WindowCut> cuts = CutWindows(frames, 30, 15);
+  std::vector<int> covered_100(100, 0);
+  for (const WindowCut& c : cuts) {
+    CHECK(c.start + c.length <= frames[c.sequence]);
+    if (c.sequence == 0) {
+      CHECK(c.length == 30);
+      for (int t = c.start; t < c.start + c.length; ++t) covered_100[t] = 1;
+    }
+    if (c.sequence == 2) CHECK(c.length == 7);  // shorter than the window: one window of its own length
+  }
+  for (int v : covered_100) CHECK(v == 1);
+  CHECK_THROWS_WITH(CutWindows({1}, 30, 15), Contains("at least 2 frames"));
+
+  const Motion a = testing::MakeWalkingMotion(100, 30, 1), b = testing::MakeWalkingMotion(31, 30, 2);
+  std::vector<std::vector<float>> seqs = {a.positions(), b.positions()};
+  const int J = a.num_joints();
+  std::vector<WindowCut> cut = CutWindows({100, 31}, 30, 15);
+  std::vector<std::vector<float>> values;
+  for (WindowCut& c : cut) values.push_back(WindowValues(seqs[c.sequence].data(), J, &c));
+  // Window values are relative to the window's mean root position.
+  double root_mean = 0;
+  for (int t = 0; t < cut[0].length; ++t) root_mean += values[0][t * J * 3 + 0];
+  CHECK(root_mean / cut[0].length == Approx(0).margin(1e-5));
+  const auto back = BlendWindows(cut, values, {100, 31}, J);
+  for (size_t s = 0; s < seqs.size(); ++s) {
+    REQUIRE(back[s].size() == seqs[s].size());
+    for (size_t i = 0; i < seqs[s].size(); ++i) CHECK(back[s][i] == Approx(seqs[s][i]).margin(1e-5));
+  }
+}
+
+TEST_CASE("denoising figures: error, acceleration and the smoothing baseline") {
+  const int J = 2, T = 20;
+  std::vector<float> line(T * J * 3), shifted(T * J * 3);
+  for (int t = 0; t < T; ++t) {
+    for (int j = 0; j < J; ++j) {
+      line[(t * J + j) * 3 + 0] = 0.1f * t;  // constant velocity
+      shifted[(t * J + j) * 3 + 0] = 0.1f * t;
+      shifted[(t * J + j) * 3 + 1] = 0.03f;
+    }
+  }
+  CHECK(MeanJointError(line, shifted) == Approx(0.03).margin(1e-6));
+  CHECK(MeanAcceleration(line, J, 30) == Approx(0).margin(1e-3));
+  std::vector<float> bumped = line;
+  bumped[(10 * J) * 3 + 2] = 0.01f;  // joint 0, frame 10: 1 cm out
+  // |a| at frames 9, 10, 11: 1, 2, 1 cm -> (4 cm) * 30^2 / ((T - 2) * J)
+  CHECK(MeanAcceleration(bumped, J, 30) == Approx(0.04 * 900 / (18 * 2)).epsilon(1e-3));
+  const std::vector<float> smooth = GaussianSmooth(line, J, 2.0);
+  for (int t = 6; t < T - 6; ++t) CHECK(smooth[t * J * 3] == Approx(line[t * J * 3]).margin(1e-5));  // 3 sigma from the edges
+  const std::vector<float> smoothed_bump = GaussianSmooth(bumped, J, 2.0);
+  CHECK(std::abs(smoothed_bump[(10 * J) * 3 + 2]) < 0.005);
+}

@@ -1,0 +1,154 @@
+// Training, fine-tuning, bundles and denoising on a tiny Motion-DVAE trained in code.
+#include "torch_catch.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/motion_noise.h"
+#include "denoise/denoise_metrics.h"
+#include "denoise/dvae_bundle.h"
+#include "denoise/dvae_model.h"
+#include "io/file_util.h"
+#include "test_support.h"
+#include "tiny_dvae.h"
+
+using namespace motionfork;
+using Catch::Contains;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// One tiny prior + denoiser for the whole file.
+const std::string& TinyDir() {
+  static testing::TempDir dir;
+  static const bool done = [] {
+    testing::WriteTinyDvaeBundles(dir.file("m"), 4, 3);
+    return true;
+  }();
+  (void)done;
+  static const std::string path = dir.file("m");
+  return path;
+}
+
+std::vector<double> Column(const std::string& csv, const std::string& name) {
+  std::ifstream in(csv);
+  std::string header, line, cell;
+  std::getline(in, header);
+  std::stringstream hs(header);
+  int col = -1, i = 0;
+  while (std::getline(hs, cell, ',')) {
+    if (cell == name) col = i;
+    ++i;
+  }
+  REQUIRE(col >= 0);
+  std::vector<double> out;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    for (int k = 0; k <= col; ++k) std::getline(ls, cell, ',');
+    out.push_back(std::stod(cell));
+  }
+  return out;
+}
+
+std::vector<torch::Tensor> Weights(const std::string& dir) {
+  DvaeManifest m;
+  DvaeNet net = LoadDvaeBundle(dir, &m);
+  std::vector<torch::Tensor> out;
+  for (const auto& p : net->parameters()) out.push_back(p.detach().clone());
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("dvae training lowers the loss and fine-tuning changes only the encoder side") {
+  const std::string& dir = TinyDir();
+  const std::vector<double> loss = Column(dir + "/prior/log.csv", "loss");
+  REQUIRE(loss.size() == 4);
+  CHECK(loss.back() < loss.front());
+  const std::vector<double> ft = Column(dir + "/denoiser/log.csv", "loss");
+  REQUIRE(ft.size() == 3);
+  CHECK(ft.back() < ft.front());
+  DvaeManifest pm, dm;
+  DvaeNet prior = LoadDvaeBundle(dir + "/prior", &pm), den = LoadDvaeBundle(dir + "/denoiser", &dm);
+  CHECK_FALSE(pm.finetuned);
+  CHECK(dm.finetuned);
+  CHECK(dm.finetune_noise == std::vector<std::string>{"gaussian:0.05", "jitter:0.03"});
+  const auto pd = prior->DecoderParameters(), dd = den->DecoderParameters();
+  for (size_t i = 0; i < pd.size(); ++i) CHECK(torch::equal(pd[i], dd[i]));
+  const auto pe = prior->EncoderParameters(), de = den->EncoderParameters();
+  int changed = 0;
+  for (size_t i = 0; i < pe.size(); ++i) changed += !torch::equal(pe[i], de[i]);
+  CHECK(changed == static_cast<int>(pe.size()));
+}
+
+TEST_CASE("dvae training and fine-tuning resume exactly where they stopped") {
+  testing::TempDir tmp;
+  const DvaeTrainConfig cfg = testing::TinyDvaeConfig(3, 2);
+  const DvaeData data = testing::TinyDvaeData();
+  const DvaeManifest base = testing::TinyDvaeBase(cfg);
+  TrainDvae(cfg, base, data, tmp.file("a"), {});
+  TrainDvae(cfg, base, data, tmp.file("b"), {}, 2);
+  CHECK(Column(tmp.file("b") + "/log.csv", "loss").size() == 2);
+  const DvaeTrainSummary s = TrainDvae(cfg, base, data, tmp.file("b"), {});
+  CHECK(s.first_epoch == 2);
+  const auto wa = Weights(tmp.file("a")), wb = Weights(tmp.file("b"));
+  for (size_t i = 0; i < wa.size(); ++i) CHECK(torch::equal(wa[i], wb[i]));
+  FinetuneDvae(cfg, tmp.file("a"), data, tmp.file("fa"), {});
+  FinetuneDvae(cfg, tmp.file("a"), data, tmp.file("fb"), {}, 1);
+  FinetuneDvae(cfg, tmp.file("a"), data, tmp.file("fb"), {});
+  CHECK(Column(tmp.file("fa") + "/log.csv", "held_out_loss") == Column(tmp.file("fb") + "/log.csv", "held_out_loss"));
+  const auto fa = Weights(tmp.file("fa")), fb = Weights(tmp.file("fb"));
+  for (size_t i = 0; i < fa.size(); ++i) CHECK(torch::equal(fa[i], fb[i]));
+  CHECK_THROWS_WITH(FinetuneDvae(cfg, tmp.file("fa"), data, tmp.file("fc"), {}), Contains("fine-tuned already"));
+}
+
+TEST_CASE("denoising: same seed same output, any length, optimisation mode leaves the bundle unchanged") {
+  const DvaeModel model = DvaeModel::Load(TinyDir() + "/denoiser");
+  const Motion clean = testing::MakeWalkingMotion(47, 30, 999);
+  const Motion noisy = AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 4);
+  DenoiseOptions o = model.manifest().denoise;
+  DenoiseStats stats;
+  const Motion a = DenoiseMotion(model, noisy, o, &stats);
+  CHECK(a.num_frames() == 47);
+  CHECK(stats.windows == 9);  // starts 0, 5, ..., 35 and the last at 37
+  CHECK(stats.noise_std.size() == static_cast<size_t>(model.joints()));
+  CHECK(DenoiseMotion(model, noisy, o).positions() == a.positions());
+  o.seed = 5;
+  CHECK(DenoiseMotion(model, noisy, o).positions() != a.positions());
+  o.seed = model.manifest().denoise.seed;
+  for (float v : a.positions()) REQUIRE(std::isfinite(v));
+  // Short sequences are one window of their own length.
+  CHECK(DenoiseMotion(model, noisy.Slice(0, 4), o).num_frames() == 4);
+  // Optimisation mode: a different result, and afterwards regression mode is what it was.
+  DenoiseOptions opt = o;
+  opt.mode = DenoiseMode::kOptimisation;
+  const Motion b = DenoiseMotion(model, noisy, opt);
+  CHECK(b.positions() != a.positions());
+  CHECK(DenoiseMotion(model, noisy, o).positions() == a.positions());
+  // Means only, and the decoder's frames alone.
+  o.samples = 0;
+  CHECK(DenoiseMotion(model, noisy, o).positions() == DenoiseMotion(model, noisy, o).positions());
+  o.fuse = false;
+  CHECK(DenoiseMotion(model, noisy, o).positions() != a.positions());
+}
+
+TEST_CASE("denoising refuses what it cannot use, naming it") {
+  const DvaeModel model = DvaeModel::Load(TinyDir() + "/denoiser");
+  const DenoiseOptions o = model.manifest().denoise;
+  std::vector<float> bad = testing::MakeWalkingMotion(20).positions();
+  bad[3 * model.joints() * 5 + 4] = std::nanf("");
+  CHECK_THROWS_WITH(model.Denoise({bad}, o), Contains("frame 5") && Contains("not finite"));
+  CHECK_THROWS_WITH(model.Denoise({std::vector<float>(10, 0.0f)}, o), Contains("joints x 3"));
+  const Motion at60(testing::MakeHumanoid(), 60.0, testing::MakeWalkingMotion(20).positions());
+  CHECK_THROWS_WITH(DenoiseMotion(model, at60, o), Contains("60") && Contains("30"));
+  testing::TempDir tmp;
+  fs::create_directories(tmp.file("b"));
+  fs::copy_file(TinyDir() + "/denoiser/dvae.yaml", tmp.file("b") + "/dvae.yaml");
+  CHECK_THROWS_WITH(DvaeModel::Load(tmp.file("b")), Contains("dvae.pt") && Contains("missing"));
+  WriteFileAtomically(tmp.file("b") + "/dvae.pt", "garbage");
+  CHECK_THROWS_AS(DvaeModel::Load(tmp.file("b")), FormatError);
+}
