@@ -14,6 +14,9 @@
 #include "hgvae_input.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
+#include "denoise/denoise_metrics.h"
+#include "denoise/dvae_model.h"
+#include "config/dvae_config.h"
 #include "io/file_util.h"
 #include "io/prediction_file.h"
 #include "motion_options.h"
@@ -32,9 +35,41 @@ struct PredictOptions {
   bool no_repair = false;
   std::string impute;               // HG-VAE bundle filling the history's missing values
   std::vector<std::string> masks;   // extra missing values (--mask), with --impute
+  std::string denoise;              // Motion-DVAE bundle denoising the history
   std::string out;
   MotionInputOptions input;
 };
+
+// Denoises the history frames [start, start + t_his) of *history with the Motion-DVAE in `dir`,
+// together with up to one model window of frames before them (never a frame after them).
+HistoryDenoising DenoiseHistory(const std::string& dir, const std::string& file, int start, int t_his,
+                                Motion* history) {
+  const DvaeModel dv = DvaeModel::Load(dir);
+  if (dv.skeleton().joint_names() != history->skeleton().joint_names() ||
+      std::abs(dv.manifest().fps - history->fps()) > 1e-6 * history->fps()) {
+    throw FormatError(dir + ": the Motion-DVAE (skeleton '" + dv.skeleton().name() + "', " +
+                      std::to_string(dv.manifest().fps) + " Hz) does not match the forecaster's (skeleton '" +
+                      history->skeleton().name() + "', " + std::to_string(history->fps()) + " Hz)");
+  }
+  const int end = start + t_his, first = std::max(0, end - std::max(dv.window(), t_his));
+  const Motion context = history->Slice(first, end);
+  Motion clean;
+  try {
+    clean = DenoiseMotion(dv, context, dv.manifest().denoise);
+  } catch (const std::invalid_argument& e) {
+    throw FormatError(file + ": " + e.what());
+  }
+  const size_t fv = static_cast<size_t>(history->num_joints()) * 3;
+  std::vector<float> pos = history->positions();
+  const std::vector<float> before(pos.begin() + start * fv, pos.begin() + end * fv);
+  std::copy(clean.positions().begin() + (start - first) * fv, clean.positions().end(), pos.begin() + start * fv);
+  const std::vector<float> after(pos.begin() + start * fv, pos.begin() + end * fv);
+  *history = Motion(history->skeleton_ptr(), history->fps(), std::move(pos));
+  HistoryDenoising d{dir, ToString(dv.manifest().denoise.mode), end - first, MeanJointError(before, after)};
+  std::printf("denoised the history with %s (%s mode, frames %d..%d): mean change %.2f cm per joint\n", dir.c_str(),
+              d.mode.c_str(), first, end - 1, 100 * d.mean_change);
+  return d;
+}
 
 void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
   const Forecaster model = Forecaster::Load(o.model);
@@ -90,6 +125,8 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
                 num_missing, o.impute.c_str(), ToString(hg.manifest().ood_score), imputation->score_before,
                 imputation->score_after, hg.manifest().score_mean, hg.manifest().score_std);
   }
+  std::optional<HistoryDenoising> denoising;
+  if (!o.denoise.empty()) denoising = DenoiseHistory(o.denoise, o.history, start, t_his, &history);
   ForecastRequest req;
   req.k = o.k;
   req.seed = o.seed;
@@ -111,6 +148,7 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
   p.skeleton = model.skeleton();
   p.fixed_parts = o.fix;
   p.imputation = imputation;
+  p.denoising = denoising;
   const size_t future_size = static_cast<size_t>(f.t_pred) * f.joints * 3;
   for (int k = 0; k < f.k; ++k) {
     p.positions.insert(p.positions.end(), f.history.begin(), f.history.end());
@@ -175,6 +213,9 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--mask", o->masks,
                   "With --impute: values to treat as missing, repeatable: random:SHARE, joints:A,B or "
                   "joints:A,B@FIRST-LAST");
+  cmd->add_option("--denoise", o->denoise,
+                  "Motion-DVAE bundle (e.g. models/bandai/dvae) denoising the history first (after --impute), with\n"
+                  "up to one model window of earlier frames as context");
   cmd->add_option("-o,--out", o->out, "Output path (OUT.npy and OUT.json are written)")->required();
   AddMotionInputOptions(cmd, &o->input);
   cmd->callback([o, &global] { RunPredict(*o, global); });

@@ -91,6 +91,10 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   j["array"] = std::filesystem::path(base + ".npy").filename().string();
   j["shape"] = {p.k, T, J, 3};
   if (p.history_validity) j["history_validity"] = ValidityJson(*p.history_validity);
+  if (p.denoising) {
+    j["denoising"] = {{"model", p.denoising->model}, {"mode", p.denoising->mode}, {"frames", p.denoising->frames},
+                      {"mean_change", p.denoising->mean_change}};
+  }
   if (p.imputation) {
     j["imputation"] = {{"model", p.imputation->model}, {"missing_values", p.imputation->missing_values},
                        {"score_before", p.imputation->score_before}, {"score_after", p.imputation->score_after}};
@@ -160,6 +164,11 @@ Prediction ReadPrediction(const std::string& path) {
     const json& im = j["imputation"];
     p.imputation = HistoryImputation{im.value("model", std::string()), im.value("missing_values", 0),
                                      im.value("score_before", 0.0), im.value("score_after", 0.0)};
+  }
+  if (j.contains("denoising")) {
+    const json& dn = j["denoising"];
+    p.denoising = HistoryDenoising{dn.value("model", std::string()), dn.value("mode", std::string()),
+                                   dn.value("frames", 0), dn.value("mean_change", 0.0)};
   }
   for (const auto& sj : j.value("samples", json::array())) p.samples.push_back(ValidityFromJson(sj, json_path));
   if (!p.samples.empty() && static_cast<int>(p.samples.size()) != p.k) {

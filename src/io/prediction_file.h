@@ -32,6 +32,13 @@ struct HistoryImputation {
   double score_after = 0;   // imputed
 };
 
+struct HistoryDenoising {
+  std::string model;        // Motion-DVAE bundle
+  std::string mode;         // regression | optimisation
+  int frames = 0;           // frames denoised: the history and up to one window before it
+  double mean_change = 0;   // mean distance moved per history joint, metres
+};
+
 struct Prediction {
   std::string model, protocol, history;
   int start_frame = 0, k = 0, t_his = 0, t_pred = 0;
@@ -43,6 +50,7 @@ struct Prediction {
   std::vector<SampleValidity> samples;  // K entries, or empty when validity was not computed
   std::optional<SampleValidity> history_validity;  // the same figures for the history frames
   std::optional<HistoryImputation> imputation;     // the history's missing values were imputed
+  std::optional<HistoryDenoising> denoising;       // the history was denoised (after any imputation)
 
   int frames() const { return t_his + t_pred; }
   int joints() const { return skeleton ? skeleton->num_joints() : 0; }
