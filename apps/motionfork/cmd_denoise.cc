@@ -191,13 +191,16 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     DenoiseStats st, st_opt;
     const auto denoised = model.Denoise(noisy, reg, &st);
     reg_seconds += st.seconds;
-    const std::vector<std::vector<float>> opt_in(noisy.begin(), noisy.begin() + opt_clips),
-        opt_clean(clean.begin(), clean.begin() + opt_clips), opt_noisy_in = opt_in;
-    const auto optimised = model.Denoise(opt_in, opt, &st_opt);
-    opt_seconds += st_opt.seconds;
     const Figures fn = Measure(noisy, clean, J, fps), fs = Measure(smooth, clean, J, fps),
-                  fd = Measure(denoised, clean, J, fps), fo = Measure(optimised, opt_clean, J, fps),
-                  fon = Measure(opt_noisy_in, opt_clean, J, fps);
+                  fd = Measure(denoised, clean, J, fps);
+    Figures fo{NAN, NAN}, fon{NAN, NAN};
+    if (opt_clips > 0) {
+      const std::vector<std::vector<float>> opt_in(noisy.begin(), noisy.begin() + opt_clips),
+          opt_clean(clean.begin(), clean.begin() + opt_clips);
+      fo = Measure(model.Denoise(opt_in, opt, &st_opt), opt_clean, J, fps);
+      fon = Measure(opt_in, opt_clean, J, fps);
+      opt_seconds += st_opt.seconds;
+    }
     const double removed = 1 - fd.err / fn.err, removed_opt = 1 - fo.err / fon.err;
     std::printf("%-18s %9.2f %9.2f %8.2f %8.1f%% %9.2f %7.1f%%   %19.2f %7.2f %9.2f %10.2f\n", o.noises[n].c_str(),
                 100 * fn.err, 100 * fs.err, 100 * fd.err, 100 * removed, 100 * fo.err, 100 * removed_opt,
@@ -206,18 +209,22 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     rows.push_back({{"noise", o.noises[n]}, {"noisy_cm", 100 * fn.err}, {"smooth_cm", 100 * fs.err},
                     {"denoised_cm", 100 * fd.err}, {"removed", removed}, {"optimised_cm", 100 * fo.err},
                     {"optimised_noisy_cm", 100 * fon.err}, {"removed_optimised", removed_opt},
+                    {"smooth_removed", 1 - fs.err / fn.err},
                     {"accel_ratio_noisy", fn.accel / clean_accel}, {"accel_ratio_smooth", fs.accel / clean_accel},
                     {"accel_ratio_denoised", fd.accel / clean_accel}, {"accel_ratio_optimised", fo.accel / clean_accel}});
     bar.Update(double(n + 1) / o.noises.size());
   }
   bar.Finish();
   const double reg_fps = frames * o.noises.size() / reg_seconds, opt_fps = opt_frames * o.noises.size() / opt_seconds;
-  std::printf("(smooth: Gaussian over time, sigma %.3g frames, a baseline)\nspeed on %d thread(s): regression %.0f frames/s, "
-              "optimisation %.0f frames/s (%d iterations per sequence)\n",
-              o.smooth_sigma, o.threads, reg_fps, opt_fps, opt.iterations);
+  std::printf("(smooth: Gaussian over time, sigma %.3g frames, a baseline; optimised: on the first %d clips, against\n"
+              "their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
+              o.smooth_sigma, opt_clips, o.threads, reg_fps);
+  if (opt_clips > 0) std::printf(", optimisation %.0f frames/s (%d iterations per sequence)", opt_fps, opt.iterations);
+  std::printf("\n");
   json j = {{"model", o.model}, {"clips", clean.size()}, {"frames", frames}, {"clean_accel", clean_accel},
             {"samples", reg.samples}, {"iterations", opt.iterations}, {"optimisation_clips", opt_clips},
-            {"regression_frames_per_s", reg_fps}, {"optimisation_frames_per_s", opt_fps}, {"settings", rows}};
+            {"regression_frames_per_s", reg_fps}, {"settings", rows}};
+  if (opt_clips > 0) j["optimisation_frames_per_s"] = opt_fps;
 
   // Downstream: forecasting from noisy vs denoised histories. Each history is denoised with the
   // window() frames that end with it (no future frame is seen).
