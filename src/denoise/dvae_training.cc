@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <sstream>
 
 #include "config/dvae_config.h"
 #include "core/motion_noise.h"
@@ -333,7 +334,10 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
     } else {
       ++bad_epochs;
     }
-    WriteFileAtomically(state.string(), std::to_string(best) + " " + std::to_string(bad_epochs) + "\n");
+    std::ostringstream st;
+    st.precision(17);
+    st << best << " " << bad_epochs << "\n";
+    WriteFileAtomically(state.string(), st.str());
     SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1);
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
