@@ -48,10 +48,16 @@ step "motionfork predict --impute: the left forearm and hand lost in the history
 "$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 --impute "$MODEL/hgvae" \
   --mask joints:LowerArm_L,Hand_L -o "$DEMO/imputed"
 
+step "motionfork denoise: the history with 4 cm of noise added, cleaned by the Motion-DVAE, then forecast"
+"$MF" denoise --model "$MODEL/dvae" --motion "$HISTORY" --skeleton bandai --add-noise gaussian:0.04 \
+  -o "$DEMO/denoised.csv"
+"$MF" predict --model "$MODEL" --history "$DEMO/denoised.csv" -k 50 --seed 0 -o "$DEMO/denoised-futures"
+
 echo
 echo "quickstart: done. Results in $DEMO:"
 for f in futures.npy futures.json same-legs.npy same-legs.json futures.png futures-overlay.png \
-         same-legs.png futures.html future_00.bvh imputed.npy imputed.json; do
+         same-legs.png futures.html future_00.bvh imputed.npy imputed.json denoised.csv \
+         denoised-futures.npy denoised-futures.json; do
   echo "  $DEMO/$f"
 done
 echo "Open the .png files in an image viewer and futures.html in a browser (it plays offline)."
