@@ -103,11 +103,16 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   }
   WriteMotionFile(o.out, out);
   const double moved = MeanJointError(motion.positions(), out.positions());
-  std::printf("denoised %d frames (%d windows of <= %d frames, %s mode%s) in %.3f s (%.0f frames/s); "
+  std::printf("denoised %d frames (%d window%s of <= %d frames, %s mode%s) in %.3f s (%.0f frames/s); "
               "mean change %.2f cm per joint\n",
-              out.num_frames(), stats.windows, model.window(), ToString(options.mode),
+              out.num_frames(), stats.windows, stats.windows == 1 ? "" : "s", model.window(), ToString(options.mode),
               options.mode == DenoiseMode::kOptimisation ? (", " + std::to_string(options.iterations) + " iterations").c_str() : "",
               stats.seconds, out.num_frames() / std::max(1e-9, stats.seconds), 100 * moved);
+  if (!o.noise.empty()) {
+    std::printf("against the file before --add-noise: noisy %.2f cm, denoised %.2f cm per joint\n",
+                100 * MeanJointError(motion.positions(), in.motion.positions()),
+                100 * MeanJointError(out.positions(), in.motion.positions()));
+  }
   std::printf("noise model's typical std per joint (cm):");
   for (int j = 0; j < model.joints(); ++j) {
     std::printf(" %s %.1f", model.skeleton().joint_names()[j].c_str(), 100 * stats.noise_std[j]);

@@ -59,6 +59,13 @@ TEST_CASE("denoise: writes a denoised file of the same length, deterministic, an
   INFO(r.output);
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Contains("optimisation mode, 2 iterations"));
+  // --add-noise: the error against the file as read is reported.
+  WriteCsvMotion(dir.file("clean.csv"), clean);
+  r = Motionfork("denoise --model " + models.denoiser + " --motion " + dir.file("clean.csv") +
+                 " --skeleton bandai --add-noise jitter:0.05 -o " + dir.file("d.csv"));
+  INFO(r.output);
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Contains("added jitter:0.05 noise") && Contains("against the file before --add-noise: noisy"));
 }
 
 TEST_CASE("denoise: bad input is refused with the file named and nothing written") {
