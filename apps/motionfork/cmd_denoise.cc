@@ -207,9 +207,15 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
       opt_seconds += st_opt.seconds;
     }
     const double removed = 1 - fd.err / fn.err, removed_opt = 1 - fo.err / fon.err;
-    std::printf("%-18s %9.2f %9.2f %8.2f %8.1f%% %9.2f %7.1f%%   %19.2f %7.2f %9.2f %10.2f\n", o.noises[n].c_str(),
-                100 * fn.err, 100 * fs.err, 100 * fd.err, 100 * removed, 100 * fo.err, 100 * removed_opt,
-                fn.accel / clean_accel, fs.accel / clean_accel, fd.accel / clean_accel, fo.accel / clean_accel);
+    auto num = [](double v, const char* format) {
+      char buf[32];
+      std::snprintf(buf, sizeof(buf), format, v);
+      return std::isfinite(v) ? std::string(buf) : std::string("-");
+    };
+    std::printf("%-18s %9.2f %9.2f %8.2f %9s %9s %8s   %19.2f %7.2f %9.2f %10s\n", o.noises[n].c_str(), 100 * fn.err,
+                100 * fs.err, 100 * fd.err, num(100 * removed, "%.1f%%").c_str(), num(100 * fo.err, "%.2f").c_str(),
+                num(100 * removed_opt, "%.1f%%").c_str(), fn.accel / clean_accel, fs.accel / clean_accel,
+                fd.accel / clean_accel, num(fo.accel / clean_accel, "%.2f").c_str());
     std::fflush(stdout);
     rows.push_back({{"noise", o.noises[n]}, {"noisy_cm", 100 * fn.err}, {"smooth_cm", 100 * fs.err},
                     {"denoised_cm", 100 * fd.err}, {"removed", removed}, {"optimised_cm", 100 * fo.err},
@@ -235,6 +241,11 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   // window() frames that end with it (no future frame is seen).
   if (!o.forecaster.empty()) {
     const Forecaster fc = Forecaster::Load(o.forecaster);
+    if (fc.config().generator.t_his != protocol.t_his || fc.skeleton()->joint_names() != model.skeleton().joint_names()) {
+      throw std::invalid_argument(o.forecaster + ": the forecaster's history (" + std::to_string(fc.config().generator.t_his) +
+                                  " frames, skeleton '" + fc.skeleton()->name() + "') does not match the protocol '" +
+                                  protocol.name + "' of the Motion-DVAE");
+    }
     std::vector<const Clip*> test_clips;
     for (int c : test) test_clips.push_back(&ds.clips[c]);
     const TestSet ts = BuildTestSet(test_clips, protocol);
