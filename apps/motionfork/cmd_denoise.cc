@@ -97,7 +97,9 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   DenoiseStats stats;
   Motion out;
   try {
-    out = DenoiseMotion(model, motion, options, &stats);
+    ProgressBar bar(std::string("denoising (") + ToString(options.mode) + ")", !g.quiet);
+    out = DenoiseMotion(model, motion, options, &stats, [&bar](double f) { bar.Update(f); });
+    bar.Finish();
   } catch (const std::invalid_argument& e) {
     throw FormatError(o.motion + ": " + e.what());
   }

@@ -67,7 +67,8 @@ void CheckSequences(const std::vector<std::vector<float>>& sequences, int joints
 }  // namespace
 
 std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector<float>>& sequences,
-                                                   const DenoiseOptions& options, DenoiseStats* stats) const {
+                                                   const DenoiseOptions& options, DenoiseStats* stats,
+                                                   const std::function<void(double)>& progress) const {
   Impl& i = *impl_;
   std::lock_guard<std::mutex> lock(i.mutex);
   const auto start = std::chrono::steady_clock::now();
@@ -88,6 +89,7 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
   std::vector<double> noise_sum(J, 0.0);
   double noise_count = 0;
   std::vector<torch::Tensor> encoder = i.net->EncoderParameters(), saved;
+  size_t done = 0;
   for (const auto& [key, members] : groups) {
     const int64_t L = key.second;
     for (size_t c0 = 0; c0 < members.size(); c0 += kChunk) {
@@ -127,6 +129,8 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
       const torch::Tensor joint_var = (var * i.norm->std().pow(2)).reshape({B * L, J, 3}).sum(2).sum(0);
       for (int j = 0; j < J; ++j) noise_sum[j] += joint_var[j].item<double>() / 3.0;
       noise_count += static_cast<double>(B * L);
+      done += static_cast<size_t>(B);
+      if (progress) progress(static_cast<double>(done) / cuts.size());
     }
   }
   std::vector<std::vector<float>> result = BlendWindows(cuts, values, frames, J);
@@ -139,7 +143,8 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
   return result;
 }
 
-Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options, DenoiseStats* stats) {
+Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options, DenoiseStats* stats,
+                     const std::function<void(double)>& progress) {
   const Skeleton& want = model.skeleton();
   if (motion.skeleton().joint_names() != want.joint_names()) {
     throw std::invalid_argument("the motion's joints do not match the Motion-DVAE's skeleton '" + want.name() +
@@ -149,7 +154,7 @@ Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const Denoise
     throw std::invalid_argument("the motion is at " + std::to_string(motion.fps()) + " Hz, the Motion-DVAE at " +
                                 std::to_string(model.manifest().fps) + " Hz");
   }
-  std::vector<std::vector<float>> out = model.Denoise({motion.positions()}, options, stats);
+  std::vector<std::vector<float>> out = model.Denoise({motion.positions()}, options, stats, progress);
   return Motion(motion.skeleton_ptr(), motion.fps(), std::move(out[0]));
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,8 +39,10 @@ class DvaeModel {
   // Denoised copies of the sequences (each >= 2 frames). Deterministic for options.seed.
   // Throws std::invalid_argument for a sequence whose size is not a multiple of joints x 3 or
   // that holds a non-finite value (naming the sequence and frame).
+  // progress (optional) gets the share of windows done, 0..1.
   std::vector<std::vector<float>> Denoise(const std::vector<std::vector<float>>& sequences,
-                                          const DenoiseOptions& options, DenoiseStats* stats = nullptr) const;
+                                          const DenoiseOptions& options, DenoiseStats* stats = nullptr,
+                                          const std::function<void(double)>& progress = {}) const;
 
  private:
   struct Impl;
@@ -49,6 +52,6 @@ class DvaeModel {
 // A motion on the model's skeleton (same joint names, in order) and frame rate, denoised. Throws
 // std::invalid_argument naming what does not match.
 Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options,
-                     DenoiseStats* stats = nullptr);
+                     DenoiseStats* stats = nullptr, const std::function<void(double)>& progress = {});
 
 }  // namespace motionfork
