@@ -97,7 +97,7 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
       std::vector<float> batch;
       for (size_t k = c0; k < c1; ++k) batch.insert(batch.end(), values[members[k]].begin(), values[members[k]].end());
       const int64_t B = static_cast<int64_t>(c1 - c0);
-      const torch::Tensor y = i.norm->Normalise(batch.data(), B, L).clone();
+      const torch::Tensor y = i.norm->Normalise(batch.data(), B, L);  // a new tensor, not a view of batch
       if (optimise) {
         // Adam on this sequence's own unsupervised loss, from the bundle's weights; restored after.
         saved.clear();

@@ -238,7 +238,8 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   SetInfo(&m, "finetune_config", config.name);
   const DvaeTensors norm(m);
   for (torch::Tensor& p : net->DecoderParameters()) p.set_requires_grad(false);
-  torch::optim::Adam adam(net->EncoderParameters(), torch::optim::AdamOptions(t.learning_rate));
+  const std::vector<torch::Tensor> trained = net->EncoderParameters();
+  torch::optim::Adam adam(trained, torch::optim::AdamOptions(t.learning_rate));
   std::vector<NoiseSpec> kinds;
   for (const std::string& s : t.noise) kinds.push_back(ParseNoiseSpec(s));
 
@@ -293,7 +294,7 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
       const DenoiseTerms terms = DenoiseObjective(net, norm, y, beta, t.bone_weight, gen);
       adam.zero_grad();
       terms.loss.backward();
-      torch::nn::utils::clip_grad_norm_(net->EncoderParameters(), t.grad_clip);
+      torch::nn::utils::clip_grad_norm_(trained, t.grad_clip);
       adam.step();
       const double v[5] = {terms.loss.item<double>(), terms.data.item<double>(), terms.kl_z.item<double>(),
                            terms.kl_v.item<double>(), terms.bone.item<double>()};
