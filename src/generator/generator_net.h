@@ -45,6 +45,7 @@ class GeneratorNetImpl : public torch::nn::Module {
   const GeneratorOptions& options() const { return options_; }
   int64_t num_parts() const { return static_cast<int64_t>(parts_.size()); }
   const std::vector<std::vector<int64_t>>& part_nodes() const { return part_nodes_; }
+  const PartNetwork& part(int64_t p) const { return parts_[p]; }
 
  private:
   GeneratorOptions options_;

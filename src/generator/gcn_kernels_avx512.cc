@@ -1,0 +1,154 @@
+// The AVX-512 bodies of gcn_kernels.h. Compiled with -march=skylake-avx512 (CMakeLists.txt) and
+// only called when kernels::Available(). Intrinsics and raw pointers only: no library templates
+// are instantiated here, so no AVX-512 copy of a shared inline function can leak into other code.
+#include <immintrin.h>
+
+#include <cstdint>
+
+#include "generator/gcn_kernels.h"
+
+namespace motionfork::kernels {
+namespace {
+
+// tanh(x) = 1 - 2 / (exp(2x) + 1), exp by range reduction to [-ln2/2, ln2/2], a degree-7
+// polynomial and vscalefps; the reciprocal by rcp14 and one Newton step. Absolute error < 3e-7.
+inline __m512 Tanh16(__m512 x) {
+  x = _mm512_min_ps(_mm512_max_ps(x, _mm512_set1_ps(-9.0f)), _mm512_set1_ps(9.0f));
+  const __m512 y = _mm512_add_ps(x, x);
+  const __m512 n = _mm512_roundscale_ps(_mm512_mul_ps(y, _mm512_set1_ps(1.44269504088896341f)),
+                                        _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+  __m512 r = _mm512_fnmadd_ps(n, _mm512_set1_ps(0.693145751953125f), y);
+  r = _mm512_fnmadd_ps(n, _mm512_set1_ps(1.428606765330187e-06f), r);
+  __m512 p = _mm512_set1_ps(1.0f / 5040);
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 720));
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 120));
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 24));
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f / 6));
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(0.5f));
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f));
+  p = _mm512_fmadd_ps(p, r, _mm512_set1_ps(1.0f));
+  const __m512 d = _mm512_add_ps(_mm512_scalef_ps(p, n), _mm512_set1_ps(1.0f));
+  __m512 inv = _mm512_rcp14_ps(d);
+  inv = _mm512_mul_ps(inv, _mm512_fnmadd_ps(d, inv, _mm512_set1_ps(2.0f)));
+  return _mm512_fnmadd_ps(_mm512_set1_ps(2.0f), inv, _mm512_set1_ps(1.0f));
+}
+
+// R rows of X times one 32-column panel of W: 2R accumulators stay in registers over all of K.
+template <int R>
+inline void Tile(const float* x, int64_t ldx, const float* panel, int64_t k_size, float* z, int64_t ldz) {
+  __m512 a0[R], a1[R];
+#pragma GCC unroll 16
+  for (int r = 0; r < R; ++r) a0[r] = a1[r] = _mm512_setzero_ps();
+  for (int64_t k = 0; k < k_size; ++k) {
+    const __m512 w0 = _mm512_load_ps(panel + 32 * k);
+    const __m512 w1 = _mm512_load_ps(panel + 32 * k + 16);
+#pragma GCC unroll 16
+    for (int r = 0; r < R; ++r) {
+      const __m512 b = _mm512_set1_ps(x[r * ldx + k]);
+      a0[r] = _mm512_fmadd_ps(b, w0, a0[r]);
+      a1[r] = _mm512_fmadd_ps(b, w1, a1[r]);
+    }
+  }
+#pragma GCC unroll 16
+  for (int r = 0; r < R; ++r) {
+    _mm512_store_ps(z + r * ldz, a0[r]);
+    _mm512_store_ps(z + r * ldz + 16, a1[r]);
+  }
+}
+
+constexpr int kTileRows = 12;
+
+template <int R>
+void Rows(const float* x, int64_t ldx, const PackedWeight& w, float* z) {
+  for (int64_t p = 0; p < w.padded / 32; ++p) {
+    Tile<R>(x, ldx, w.values + p * w.rows * 32, w.rows, z + p * 32, w.padded);
+  }
+}
+
+void RowsTail(int r, const float* x, int64_t ldx, const PackedWeight& w, float* z) {
+  switch (r) {
+    case 1: return Rows<1>(x, ldx, w, z);
+    case 2: return Rows<2>(x, ldx, w, z);
+    case 3: return Rows<3>(x, ldx, w, z);
+    case 4: return Rows<4>(x, ldx, w, z);
+    case 5: return Rows<5>(x, ldx, w, z);
+    case 6: return Rows<6>(x, ldx, w, z);
+    case 7: return Rows<7>(x, ldx, w, z);
+    case 8: return Rows<8>(x, ldx, w, z);
+    case 9: return Rows<9>(x, ldx, w, z);
+    case 10: return Rows<10>(x, ldx, w, z);
+    case 11: return Rows<11>(x, ldx, w, z);
+    default: return Rows<kTileRows>(x, ldx, w, z);
+  }
+}
+
+// V column vectors (16 floats each) of one output row: V independent accumulators, so the mix
+// over the N nodes is not one long chain of dependent multiply-adds.
+template <int V>
+inline void MixChunk(const LayerEpilogue& e, int64_t n, const float* z, int64_t padded, int64_t c0,
+                     int64_t width, const float* shared, const float* residual, float* out) {
+  __m512 acc[V];
+  if (shared) {
+    const __m512 s = _mm512_set1_ps(e.rowsum[n]);
+#pragma GCC unroll 8
+    for (int v = 0; v < V; ++v) acc[v] = _mm512_mul_ps(s, _mm512_load_ps(shared + c0 + 16 * v));
+  } else {
+#pragma GCC unroll 8
+    for (int v = 0; v < V; ++v) acc[v] = _mm512_setzero_ps();
+  }
+  const float* a = e.adjacency + n * e.nodes;
+  for (int64_t m = 0; m < e.nodes; ++m) {
+    const __m512 am = _mm512_set1_ps(a[m]);
+    const float* zr = z + m * padded + c0;
+#pragma GCC unroll 8
+    for (int v = 0; v < V; ++v) acc[v] = _mm512_fmadd_ps(am, _mm512_load_ps(zr + 16 * v), acc[v]);
+  }
+#pragma GCC unroll 8
+  for (int v = 0; v < V; ++v) {
+    const int64_t c = c0 + 16 * v;
+    if (c >= width) break;
+    const __m512 t = _mm512_load_ps(e.shift + n * padded + c);
+    __m512 y = e.scale ? _mm512_fmadd_ps(acc[v], _mm512_load_ps(e.scale + n * padded + c), t)
+                       : _mm512_add_ps(acc[v], t);
+    if (e.tanh) y = Tanh16(y);
+    const __mmask16 mask = width - c >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (width - c)) - 1);
+    if (residual) y = _mm512_add_ps(y, _mm512_maskz_loadu_ps(mask, residual + c));
+    _mm512_mask_storeu_ps(out + c, mask, y);
+  }
+}
+
+}  // namespace
+
+void MatMul(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float* z) {
+  int64_t r = 0;
+  for (; r + kTileRows <= m; r += kTileRows) Rows<kTileRows>(x + r * ldx, ldx, w, z + r * w.padded);
+  if (r < m) RowsTail(static_cast<int>(m - r), x + r * ldx, ldx, w, z + r * w.padded);
+}
+
+void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width, const float* shared,
+             const int64_t* nodes, int64_t count, const float* residual, float* out, int64_t ld) {
+  for (int64_t i = 0; i < count; ++i) {
+    const int64_t n = nodes ? nodes[i] : i;
+    const float* res = residual ? residual + n * ld : nullptr;
+    float* o = out + n * ld;
+    int64_t c = 0;
+    for (; c + 128 <= padded; c += 128) MixChunk<8>(e, n, z, padded, c, width, shared, res, o);
+    switch ((padded - c) / 16) {
+      case 6: MixChunk<6>(e, n, z, padded, c, width, shared, res, o); break;
+      case 4: MixChunk<4>(e, n, z, padded, c, width, shared, res, o); break;
+      case 2: MixChunk<2>(e, n, z, padded, c, width, shared, res, o); break;
+      default: break;
+    }
+  }
+}
+
+void Tanh(float* x, int64_t n) {
+  int64_t i = 0;
+  for (; i + 16 <= n; i += 16) _mm512_storeu_ps(x + i, Tanh16(_mm512_loadu_ps(x + i)));
+  if (i < n) {
+    const __mmask16 mask = static_cast<__mmask16>((1u << (n - i)) - 1);
+    _mm512_mask_storeu_ps(x + i, mask, Tanh16(_mm512_maskz_loadu_ps(mask, x + i)));
+  }
+}
+
+}  // namespace motionfork::kernels
