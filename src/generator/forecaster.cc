@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
 #include "config/constraint_config.h"
 #include "generator/bundle.h"
+#include "generator/fast_generator.h"
 #include "generator/latents.h"
 #include "generator/pose_repair.h"
 
@@ -17,6 +19,9 @@ struct Forecaster::Impl {
   std::shared_ptr<const Skeleton> skeleton;
   PartPlan parts;
   GeneratorNet net{nullptr};
+  // The fused inference path (AVX-512 CPUs; MOTIONFORK_FAST_GENERATOR=0 turns it off): the same
+  // futures as `net` up to float rounding, about 1.5x faster.
+  std::unique_ptr<FastGenerator> fast;
   std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
 };
 
@@ -28,6 +33,10 @@ Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
 Forecaster Forecaster::Load(const std::string& bundle_dir) {
   auto impl = std::make_unique<Impl>();
   impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
+  const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
+  if (FastGenerator::Available() && !(fast_env && std::string(fast_env) == "0")) {
+    impl->fast = std::make_unique<FastGenerator>(*impl->net);
+  }
   impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));
   impl->parts = MakePartPlan(*impl->skeleton, impl->config.generator.partition);
   const std::filesystem::path constraints = std::filesystem::path(bundle_dir) / "constraints.yaml";
@@ -70,14 +79,32 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
   // statistics at inference), and the latents are drawn for all histories first.
   constexpr int64_t kChunkSamples = 64;
   const int64_t chunk = std::max<int64_t>(1, kChunkSamples / request.k);
-  std::vector<torch::Tensor> parts_out;
-  for (int64_t first = 0; first < num_histories; first += chunk) {
-    const int64_t n = std::min<int64_t>(chunk, num_histories - first);
+  torch::Tensor y;  // [Bh*K, t_pred, N, 3]
+  if (impl_->fast) {
+    // Chunks in parallel on the threads LibTorch was given (each writes its own rows).
+    y = torch::empty({static_cast<int64_t>(num_histories) * request.k, g.t_pred, N, 3});
     std::vector<torch::Tensor> zc;
-    for (const torch::Tensor& zp : z) zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
-    parts_out.push_back(impl_->net->forward(h.slice(0, first, first + n), zc, fixed).slice(1, g.t_his));
+    for (const torch::Tensor& zp : z) zc.push_back(zp.contiguous());
+    const int64_t chunks = (num_histories + chunk - 1) / chunk;
+    at::parallel_for(0, chunks, 1, [&](int64_t begin, int64_t end) {
+      for (int64_t c = begin; c < end; ++c) {
+        const int64_t first = c * chunk, n = std::min<int64_t>(chunk, num_histories - first);
+        std::vector<const float*> zptr;
+        for (const torch::Tensor& zp : zc) zptr.push_back(zp.data_ptr<float>() + first * request.k * g.nz);
+        impl_->fast->Predict(h.data_ptr<float>() + first * g.t_his * N * 3, n, request.k, zptr, fixed,
+                             y.data_ptr<float>() + first * request.k * g.t_pred * N * 3);
+      }
+    });
+  } else {
+    std::vector<torch::Tensor> parts_out;
+    for (int64_t first = 0; first < num_histories; first += chunk) {
+      const int64_t n = std::min<int64_t>(chunk, num_histories - first);
+      std::vector<torch::Tensor> zc;
+      for (const torch::Tensor& zp : z) zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
+      parts_out.push_back(impl_->net->forward(h.slice(0, first, first + n), zc, fixed).slice(1, g.t_his));
+    }
+    y = (parts_out.size() == 1 ? parts_out[0] : torch::cat(parts_out, 0)).contiguous();
   }
-  torch::Tensor y = (parts_out.size() == 1 ? parts_out[0] : torch::cat(parts_out, 0)).contiguous();  // [Bh*K, t_pred, N, 3]
   if (request.repair && impl_->repair) {
     // Root back at the origin for the angle ranges, then repaired, then without it again.
     torch::Tensor poses = torch::cat({torch::zeros({y.size(0) * g.t_pred, 1, 3}), y.view({-1, N, 3})}, 1);

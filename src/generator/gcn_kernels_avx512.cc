@@ -15,8 +15,10 @@ namespace {
 inline __m512 Tanh16(__m512 x) {
   x = _mm512_min_ps(_mm512_max_ps(x, _mm512_set1_ps(-9.0f)), _mm512_set1_ps(9.0f));
   const __m512 y = _mm512_add_ps(x, x);
-  const __m512 n = _mm512_roundscale_ps(_mm512_mul_ps(y, _mm512_set1_ps(1.44269504088896341f)),
-                                        _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+  // Round to the nearest integer by adding and subtracting 1.5 * 2^23 (one uop each, where
+  // vroundscaleps takes two).
+  const __m512 magic = _mm512_set1_ps(12582912.0f);
+  const __m512 n = _mm512_sub_ps(_mm512_fmadd_ps(y, _mm512_set1_ps(1.44269504088896341f), magic), magic);
   __m512 r = _mm512_fnmadd_ps(n, _mm512_set1_ps(0.693145751953125f), y);
   r = _mm512_fnmadd_ps(n, _mm512_set1_ps(1.428606765330187e-06f), r);
   __m512 p = _mm512_set1_ps(1.0f / 5040);
@@ -82,39 +84,60 @@ void RowsTail(int r, const float* x, int64_t ldx, const PackedWeight& w, float* 
   }
 }
 
-// V column vectors (16 floats each) of one output row: V independent accumulators, so the mix
-// over the N nodes is not one long chain of dependent multiply-adds.
-template <int V>
-inline void MixChunk(const LayerEpilogue& e, int64_t n, const float* z, int64_t padded, int64_t c0,
-                     int64_t width, const float* shared, const float* residual, float* out) {
-  __m512 acc[V];
-  if (shared) {
-    const __m512 s = _mm512_set1_ps(e.rowsum[n]);
-#pragma GCC unroll 8
-    for (int v = 0; v < V; ++v) acc[v] = _mm512_mul_ps(s, _mm512_load_ps(shared + c0 + 16 * v));
-  } else {
-#pragma GCC unroll 8
-    for (int v = 0; v < V; ++v) acc[v] = _mm512_setzero_ps();
+// RN output rows (nodes rows[0..RN)) x V column vectors (16 floats each) from column c0: the
+// mix over the N nodes as a small register-blocked product (A's entries broadcast, Z's rows
+// loaded once per RN rows), then scale, shift, tanh and residual on the accumulators.
+template <int RN, int V>
+inline void MixTile(const LayerEpilogue& e, const int64_t* rows, const float* z, int64_t padded,
+                    int64_t c0, int64_t width, const float* shared, const float* residual,
+                    float* out, int64_t ld) {
+  __m512 acc[RN][V];
+#pragma GCC unroll 4
+  for (int r = 0; r < RN; ++r) {
+    const __m512 s = shared ? _mm512_set1_ps(e.rowsum[rows[r]]) : _mm512_setzero_ps();
+#pragma GCC unroll 4
+    for (int v = 0; v < V; ++v) {
+      acc[r][v] = shared ? _mm512_mul_ps(s, _mm512_load_ps(shared + c0 + 16 * v)) : _mm512_setzero_ps();
+    }
   }
-  const float* a = e.adjacency + n * e.nodes;
+  const float* a[RN];
+#pragma GCC unroll 4
+  for (int r = 0; r < RN; ++r) a[r] = e.adjacency + rows[r] * e.nodes;
   for (int64_t m = 0; m < e.nodes; ++m) {
-    const __m512 am = _mm512_set1_ps(a[m]);
-    const float* zr = z + m * padded + c0;
-#pragma GCC unroll 8
-    for (int v = 0; v < V; ++v) acc[v] = _mm512_fmadd_ps(am, _mm512_load_ps(zr + 16 * v), acc[v]);
+    __m512 zv[V];
+#pragma GCC unroll 4
+    for (int v = 0; v < V; ++v) zv[v] = _mm512_load_ps(z + m * padded + c0 + 16 * v);
+#pragma GCC unroll 4
+    for (int r = 0; r < RN; ++r) {
+      const __m512 am = _mm512_set1_ps(a[r][m]);
+#pragma GCC unroll 4
+      for (int v = 0; v < V; ++v) acc[r][v] = _mm512_fmadd_ps(am, zv[v], acc[r][v]);
+    }
   }
-#pragma GCC unroll 8
-  for (int v = 0; v < V; ++v) {
-    const int64_t c = c0 + 16 * v;
-    if (c >= width) break;
-    const __m512 t = _mm512_load_ps(e.shift + n * padded + c);
-    __m512 y = e.scale ? _mm512_fmadd_ps(acc[v], _mm512_load_ps(e.scale + n * padded + c), t)
-                       : _mm512_add_ps(acc[v], t);
-    if (e.tanh) y = Tanh16(y);
-    const __mmask16 mask = width - c >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (width - c)) - 1);
-    if (residual) y = _mm512_add_ps(y, _mm512_maskz_loadu_ps(mask, residual + c));
-    _mm512_mask_storeu_ps(out + c, mask, y);
+#pragma GCC unroll 4
+  for (int r = 0; r < RN; ++r) {
+    const int64_t n = rows[r];
+#pragma GCC unroll 4
+    for (int v = 0; v < V; ++v) {
+      const int64_t c = c0 + 16 * v;
+      if (c >= width) break;
+      const __m512 t = _mm512_load_ps(e.shift + n * padded + c);
+      __m512 y = e.scale ? _mm512_fmadd_ps(acc[r][v], _mm512_load_ps(e.scale + n * padded + c), t)
+                         : _mm512_add_ps(acc[r][v], t);
+      if (e.tanh) y = Tanh16(y);
+      const __mmask16 mask = width - c >= 16 ? __mmask16(0xFFFF) : __mmask16((1u << (width - c)) - 1);
+      if (residual) y = _mm512_add_ps(y, _mm512_maskz_loadu_ps(mask, residual + n * ld + c));
+      _mm512_mask_storeu_ps(out + n * ld + c, mask, y);
+    }
   }
+}
+
+template <int RN>
+inline void MixRowGroup(const LayerEpilogue& e, const int64_t* rows, const float* z, int64_t padded,
+                        int64_t width, const float* shared, const float* residual, float* out, int64_t ld) {
+  int64_t c = 0;
+  for (; c + 64 <= padded; c += 64) MixTile<RN, 4>(e, rows, z, padded, c, width, shared, residual, out, ld);
+  if (c < padded) MixTile<RN, 2>(e, rows, z, padded, c, width, shared, residual, out, ld);
 }
 
 }  // namespace
@@ -127,23 +150,33 @@ void MatMul(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float
 
 void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width, const float* shared,
              const int64_t* nodes, int64_t count, const float* residual, float* out, int64_t ld) {
-  for (int64_t i = 0; i < count; ++i) {
-    const int64_t n = nodes ? nodes[i] : i;
-    const float* res = residual ? residual + n * ld : nullptr;
-    float* o = out + n * ld;
-    int64_t c = 0;
-    for (; c + 128 <= padded; c += 128) MixChunk<8>(e, n, z, padded, c, width, shared, res, o);
-    switch ((padded - c) / 16) {
-      case 6: MixChunk<6>(e, n, z, padded, c, width, shared, res, o); break;
-      case 4: MixChunk<4>(e, n, z, padded, c, width, shared, res, o); break;
-      case 2: MixChunk<2>(e, n, z, padded, c, width, shared, res, o); break;
-      default: break;
+  constexpr int kMixRows = 4;
+  int64_t all[kMixRows];
+  for (int64_t i = 0; i < count; i += kMixRows) {
+    const int64_t* rows = nodes + i;
+    if (!nodes) {
+      for (int r = 0; r < kMixRows; ++r) all[r] = i + r;
+      rows = all;
+    }
+    switch (count - i) {
+      case 1: MixRowGroup<1>(e, rows, z, padded, width, shared, residual, out, ld); break;
+      case 2: MixRowGroup<2>(e, rows, z, padded, width, shared, residual, out, ld); break;
+      case 3: MixRowGroup<3>(e, rows, z, padded, width, shared, residual, out, ld); break;
+      default: MixRowGroup<kMixRows>(e, rows, z, padded, width, shared, residual, out, ld); break;
     }
   }
 }
 
 void Tanh(float* x, int64_t n) {
   int64_t i = 0;
+  for (; i + 64 <= n; i += 64) {
+    const __m512 a = Tanh16(_mm512_loadu_ps(x + i)), b = Tanh16(_mm512_loadu_ps(x + i + 16));
+    const __m512 c = Tanh16(_mm512_loadu_ps(x + i + 32)), d = Tanh16(_mm512_loadu_ps(x + i + 48));
+    _mm512_storeu_ps(x + i, a);
+    _mm512_storeu_ps(x + i + 16, b);
+    _mm512_storeu_ps(x + i + 32, c);
+    _mm512_storeu_ps(x + i + 48, d);
+  }
   for (; i + 16 <= n; i += 16) _mm512_storeu_ps(x + i, Tanh16(_mm512_loadu_ps(x + i)));
   if (i < n) {
     const __mmask16 mask = static_cast<__mmask16>((1u << (n - i)) - 1);
