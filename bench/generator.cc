@@ -3,13 +3,16 @@
 //   bench_generator [--threads N]
 //
 // Sizes: 16 nodes, t_his 25, t_pred 100, n_pre 10, hidden 256, 4 blocks, nz 64, 2 parts.
-// Prints: ms for 50 futures of one history; histories/s for 16 histories x 50 futures; FLOPs and
-// achieved GFLOP/s of the graph-conv products.
+// Prints, for the fused path (FastGenerator, AVX-512 CPUs) and for the LibTorch network: ms for
+// 50 futures of one history; histories/s for 16 histories x 50 futures; FLOPs and achieved
+// GFLOP/s of the graph-conv products; the process's peak resident memory after each stage; the
+// network's training step (forward + backward, no losses).
 #include <torch/torch.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -34,6 +37,19 @@ double MacsPerSample(const GeneratorOptions& o, int parts) {
   const double hidden = 2 * o.blocks * (N * H * H + N * N * H);
   const double output = N * H * C + N * N * C;
   return parts * (input + hidden + output);
+}
+
+// VmHWM of /proc/self/status, MB (0 where it cannot be read).
+double PeakResidentMegabytes() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0;
+  char line[256];
+  double kb = 0;
+  while (std::fgets(line, sizeof line, f)) {
+    if (!std::strncmp(line, "VmHWM:", 6)) kb = std::atof(line + 6);
+  }
+  std::fclose(f);
+  return kb / 1024;
 }
 
 }  // namespace
@@ -61,6 +77,42 @@ int main(int argc, char** argv) {
   for (const auto& p : net->parameters()) params += p.numel();
   std::printf("generator: %lld parameters, %d thread(s)\n", static_cast<long long>(params), threads);
   const double gflop_per_sample = 2 * MacsPerSample(o, 2) / 1e9;
+
+  std::printf("peak resident memory with the network built: %.0f MB\n", PeakResidentMegabytes());
+  // The fused AVX-512 path (FastGenerator, what Forecaster uses on such CPUs): same work.
+  if (FastGenerator::Available()) {
+    const FastGenerator fast(*net);
+    auto run_fast = [&](int64_t histories, int64_t k, int reps) {
+      const torch::Tensor h = torch::randn({histories, o.t_his, o.num_nodes, 3});
+      std::vector<float> out(static_cast<size_t>(histories * k) * o.t_pred * o.num_nodes * 3);
+      std::vector<double> times;
+      for (int r = 0; r < reps; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const torch::Tensor z0 = torch::randn({histories * k, o.nz}), z1 = torch::randn({histories * k, o.nz});
+        fast.Predict(h.data_ptr<float>(), histories, k, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, out.data());
+        times.push_back(Seconds(t0));
+      }
+      std::sort(times.begin(), times.end());
+      return times[times.size() / 2];
+    };
+    run_fast(1, 50, 5);
+    const double f1 = run_fast(1, 50, 41);
+    std::printf("fused: 50 futures of 1 history: %.2f ms median (%.1f GFLOP/s, %.0f%% of 205)\n", f1 * 1e3,
+                50 * gflop_per_sample / f1, 100 * 50 * gflop_per_sample / f1 / 205);
+    const double f16 = run_fast(16, 50, 9);
+    std::printf("fused: 16 histories x 50 futures in one call: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
+                f16 * 1e3, 16 / f16, 16 * 50 * gflop_per_sample / f16);
+    std::vector<double> per;
+    for (int r = 0; r < 9; ++r) {
+      double total = 0;
+      for (int i = 0; i < 16; ++i) total += run_fast(1, 50, 1);
+      per.push_back(total);
+    }
+    std::sort(per.begin(), per.end());
+    std::printf("fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s\n",
+                per[per.size() / 2] * 1e3, 16 / per[per.size() / 2]);
+    std::printf("peak resident memory after the fused inference: %.0f MB\n", PeakResidentMegabytes());
+  }
 
   auto run = [&](int64_t histories, int64_t k, int reps) {
     torch::NoGradGuard no_grad;
@@ -95,39 +147,7 @@ int main(int argc, char** argv) {
   std::printf("16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
               per16 * 1e3, 16 / per16, 16 * 50 * gflop_per_sample / per16);
 
-  // The fused AVX-512 path (FastGenerator, what Forecaster uses on such CPUs): same work.
-  if (FastGenerator::Available()) {
-    const FastGenerator fast(*net);
-    auto run_fast = [&](int64_t histories, int64_t k, int reps) {
-      const torch::Tensor h = torch::randn({histories, o.t_his, o.num_nodes, 3});
-      std::vector<float> out(static_cast<size_t>(histories * k) * o.t_pred * o.num_nodes * 3);
-      std::vector<double> times;
-      for (int r = 0; r < reps; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const torch::Tensor z0 = torch::randn({histories * k, o.nz}), z1 = torch::randn({histories * k, o.nz});
-        fast.Predict(h.data_ptr<float>(), histories, k, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, out.data());
-        times.push_back(Seconds(t0));
-      }
-      std::sort(times.begin(), times.end());
-      return times[times.size() / 2];
-    };
-    run_fast(1, 50, 5);
-    const double f1 = run_fast(1, 50, 41);
-    std::printf("fused: 50 futures of 1 history: %.2f ms median (%.1f GFLOP/s, %.0f%% of 205)\n", f1 * 1e3,
-                50 * gflop_per_sample / f1, 100 * 50 * gflop_per_sample / f1 / 205);
-    const double f16 = run_fast(16, 50, 9);
-    std::printf("fused: 16 histories x 50 futures in one call: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
-                f16 * 1e3, 16 / f16, 16 * 50 * gflop_per_sample / f16);
-    std::vector<double> per;
-    for (int r = 0; r < 9; ++r) {
-      double total = 0;
-      for (int i = 0; i < 16; ++i) total += run_fast(1, 50, 1);
-      per.push_back(total);
-    }
-    std::sort(per.begin(), per.end());
-    std::printf("fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s\n",
-                per[per.size() / 2] * 1e3, 16 / per[per.size() / 2]);
-  }
+  std::printf("peak resident memory after LibTorch's inference: %.0f MB\n", PeakResidentMegabytes());
 
   // Training step of the network alone (forward + backward of a squared loss), 16 x 100 futures.
   net->train();
@@ -145,5 +165,6 @@ int main(int argc, char** argv) {
   std::sort(steps.begin(), steps.end());
   std::printf("network training step, 16 histories x 100 futures (no losses): %.2f s median\n",
               steps[steps.size() / 2]);
+  std::printf("peak resident memory after the training steps: %.0f MB\n", PeakResidentMegabytes());
   return 0;
 }

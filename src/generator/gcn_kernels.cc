@@ -1,6 +1,7 @@
 // The parts of gcn_kernels.h that need no AVX-512: the CPU check, buffers, weight packing.
 #include "generator/gcn_kernels.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -26,15 +27,16 @@ PackedWeight PackWeight(const float* w, int64_t rows, int64_t cols) {
   PackedWeight p;
   p.rows = rows;
   p.cols = cols;
-  p.padded = (cols + 31) / 32 * 32;
+  p.padded = (cols + 15) / 16 * 16;
   p.data = AlignedFloats(p.padded * rows);
   float* out = p.data.get();
   p.values = out;
-  for (int64_t panel = 0; panel < p.padded / 32; ++panel) {
+  for (int64_t c0 = 0; c0 < p.padded; c0 += kPanelColumns) {
+    const int64_t width = std::min(kPanelColumns, p.padded - c0);
     for (int64_t k = 0; k < rows; ++k) {
-      for (int64_t j = 0; j < 32; ++j) {
-        const int64_t c = panel * 32 + j;
-        out[(panel * rows + k) * 32 + j] = c < cols ? w[k * cols + c] : 0.0f;
+      for (int64_t j = 0; j < width; ++j) {
+        const int64_t c = c0 + j;
+        *out++ = c < cols ? w[k * cols + c] : 0.0f;
       }
     }
   }

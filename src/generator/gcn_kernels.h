@@ -24,8 +24,9 @@ struct AlignedFloats {
   float* get() const { return data.get(); }
 };
 
-// W [K, H] row-major, packed for the kernels: panels of 32 columns, [ceil(H / 32)][K][32], zero
-// padded. padded = ceil(H / 32) * 32.
+// W [K, H] row-major, packed for the kernels: H padded with zeros to a multiple of 16 (`padded`),
+// cut into panels of kPanelColumns columns (the last one narrower), each stored [K][width].
+constexpr int64_t kPanelColumns = 48;
 struct PackedWeight {
   int64_t rows = 0, cols = 0, padded = 0;
   AlignedFloats data;
