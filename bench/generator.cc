@@ -39,6 +39,19 @@ double MacsPerSample(const GeneratorOptions& o, int parts) {
   return parts * (input + hidden + output);
 }
 
+// Median over `reps` of the time for 16 histories x 50 futures run one history at a time.
+template <typename Run>
+double SixteenOneAtATime(Run& run, int reps) {
+  std::vector<double> totals;
+  for (int r = 0; r < reps; ++r) {
+    double total = 0;
+    for (int i = 0; i < 16; ++i) total += run(1, 50, 1);
+    totals.push_back(total);
+  }
+  std::sort(totals.begin(), totals.end());
+  return totals[totals.size() / 2];
+}
+
 // VmHWM of /proc/self/status, MB (0 where it cannot be read).
 double PeakResidentMegabytes() {
   std::FILE* f = std::fopen("/proc/self/status", "r");
@@ -102,15 +115,9 @@ int main(int argc, char** argv) {
     const double f16 = run_fast(16, 50, 9);
     std::printf("fused: 16 histories x 50 futures in one call: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
                 f16 * 1e3, 16 / f16, 16 * 50 * gflop_per_sample / f16);
-    std::vector<double> per;
-    for (int r = 0; r < 9; ++r) {
-      double total = 0;
-      for (int i = 0; i < 16; ++i) total += run_fast(1, 50, 1);
-      per.push_back(total);
-    }
-    std::sort(per.begin(), per.end());
+    const double per = SixteenOneAtATime(run_fast, 9);
     std::printf("fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s\n",
-                per[per.size() / 2] * 1e3, 16 / per[per.size() / 2]);
+                per * 1e3, 16 / per);
     std::printf("peak resident memory after the fused inference: %.0f MB\n", PeakResidentMegabytes());
   }
 
@@ -136,14 +143,7 @@ int main(int argc, char** argv) {
               batch * 1e3, 16 / batch, 16 * 50 * gflop_per_sample / batch);
   // The same work one history at a time, as Forecaster::PredictRootRelative chunks it (the
   // activations of 50 samples stay in cache).
-  std::vector<double> chunked;
-  for (int r = 0; r < 7; ++r) {
-    double total = 0;
-    for (int i = 0; i < 16; ++i) total += run(1, 50, 1);
-    chunked.push_back(total);
-  }
-  std::sort(chunked.begin(), chunked.end());
-  const double per16 = chunked[chunked.size() / 2];
+  const double per16 = SixteenOneAtATime(run, 7);
   std::printf("16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
               per16 * 1e3, 16 / per16, 16 * 50 * gflop_per_sample / per16);
 
