@@ -95,11 +95,24 @@ struct FastGenerator::Model {
   std::vector<Part> parts;
 
   // Scratch of one Predict call.
+  // Scratch of one Predict call, carved from a buffer each thread keeps between calls (so that
+  // calls do not pay for fresh pages); every value is written before it is read.
   struct Work {
-    AlignedFloats cur, h0, h1, z, q;
-    Work(const Model& m, int64_t samples)
-        : cur(samples * m.N * m.C), h0(samples * m.N * m.H), h1(samples * m.N * m.H),
-          z(samples * m.N * std::max({m.Hp, 3 * m.idct.padded, m.C + 31})), q(samples * m.Hp) {}
+    float *cur, *h0, *h1, *z, *q;
+    Work(const Model& m, int64_t samples) {
+      const int64_t sizes[] = {samples * m.N * m.C, samples * m.N * m.H, samples * m.N * m.H,
+                               samples * m.N * std::max({m.Hp, 3 * m.idct.padded, m.C + 15}), samples * m.Hp};
+      int64_t total = 0;
+      for (int64_t size : sizes) total += (size + 15) / 16 * 16;
+      thread_local AlignedFloats arena;
+      if (arena.size < total) arena = AlignedFloats(total, /*zero=*/false);
+      float* next = arena.get();
+      float** slots[] = {&cur, &h0, &h1, &z, &q};
+      for (int i = 0; i < 5; ++i) {
+        *slots[i] = next;
+        next += (sizes[i] + 15) / 16 * 16;
+      }
+    }
   };
 
   // out = layer(x) (+ residual) for a hidden layer, [samples, N, H]. The product rows of a few
@@ -162,10 +175,10 @@ void FastGenerator::Model::HiddenLayer(const Layer& layer, const float* x, int64
   const int64_t chunk = std::max<int64_t>(1, 48 / N);  // about 48 rows: 48 KB of products
   for (int64_t s0 = 0; s0 < samples; s0 += chunk) {
     const int64_t count = std::min(chunk, samples - s0);
-    kernels::MatMul(x + s0 * N * H, count * N, H, layer.weight, w.z.get());
+    kernels::MatMul(x + s0 * N * H, count * N, H, layer.weight, w.z);
     for (int64_t b = 0; b < count; ++b) {
       const int64_t offset = (s0 + b) * N * H;
-      kernels::MixRows(e, w.z.get() + b * N * Hp, Hp, H, nullptr, nullptr, N,
+      kernels::MixRows(e, w.z + b * N * Hp, Hp, H, nullptr, nullptr, N,
                        residual ? residual + offset : nullptr, out + offset, H);
     }
   }
@@ -177,25 +190,25 @@ void FastGenerator::Model::RunPart(const Part& part, float* cur, int64_t samples
   // Input layer: A (X W_x + 1 z W_z) + b, X W_x once per group of samples sharing their input.
   const kernels::LayerEpilogue in = part.input.Epilogue();
   for (int64_t g = 0; g < samples / group; ++g) {
-    kernels::MatMul(cur + g * group * N * C, N, C, part.input.weight, w.z.get() + g * rows);
+    kernels::MatMul(cur + g * group * N * C, N, C, part.input.weight, w.z + g * rows);
   }
-  kernels::MatMul(z, samples, nz, part.input.shared, w.q.get());
+  kernels::MatMul(z, samples, nz, part.input.shared, w.q);
   for (int64_t b = 0; b < samples; ++b) {
-    kernels::MixRows(in, w.z.get() + (b / group) * rows, Hp, H, w.q.get() + b * Hp, nullptr, N, nullptr,
-                     w.h0.get() + b * N * H, H);
+    kernels::MixRows(in, w.z + (b / group) * rows, Hp, H, w.q + b * Hp, nullptr, N, nullptr,
+                     w.h0 + b * N * H, H);
   }
   // Residual blocks: h1 = layer(h0); h0 = layer(h1) + h0.
   for (size_t i = 0; i + 1 < part.hidden.size(); i += 2) {
-    HiddenLayer(part.hidden[i], w.h0.get(), samples, nullptr, w.h1.get(), w);
-    HiddenLayer(part.hidden[i + 1], w.h1.get(), samples, w.h0.get(), w.h0.get(), w);
+    HiddenLayer(part.hidden[i], w.h0, samples, nullptr, w.h1, w);
+    HiddenLayer(part.hidden[i + 1], w.h1, samples, w.h0, w.h0, w);
   }
   // Output layer, own nodes only: coefficients += A (h W) + b.
   const kernels::LayerEpilogue out = part.output.Epilogue();
   const int64_t Cp = part.output.weight.padded;
-  kernels::MatMul(w.h0.get(), samples * N, H, part.output.weight, w.z.get());
+  kernels::MatMul(w.h0, samples * N, H, part.output.weight, w.z);
   for (int64_t b = 0; b < samples; ++b) {
     float* c = cur + b * N * C;
-    kernels::MixRows(out, w.z.get() + b * N * Cp, Cp, C, nullptr, part.nodes.data(),
+    kernels::MixRows(out, w.z + b * N * Cp, Cp, C, nullptr, part.nodes.data(),
                      static_cast<int64_t>(part.nodes.size()), c, c, C);
   }
 }
@@ -224,7 +237,7 @@ void FastGenerator::Predict(const float* histories, int64_t num_histories, int64
           for (int64_t a = 0; a < 3; ++a) coeffs[n * C + a * m.n_pre + l] += d * frame[n * 3 + a];
       }
     }
-    for (int64_t j = 0; j < k; ++j) std::copy(coeffs.begin(), coeffs.end(), w.cur.get() + (h * k + j) * N * C);
+    for (int64_t j = 0; j < k; ++j) std::copy(coeffs.begin(), coeffs.end(), w.cur + (h * k + j) * N * C);
   }
   // The parts in order; a fixed part runs on each history's first sample and is copied to the rest.
   bool varied = false;
@@ -233,26 +246,26 @@ void FastGenerator::Predict(const float* histories, int64_t num_histories, int64
     if (is_fixed && k > 1) {
       AlignedFloats first(num_histories * N * C), zf(num_histories * m.nz);
       for (int64_t h = 0; h < num_histories; ++h) {
-        std::memcpy(first.get() + h * N * C, w.cur.get() + h * k * N * C, sizeof(float) * N * C);
+        std::memcpy(first.get() + h * N * C, w.cur + h * k * N * C, sizeof(float) * N * C);
         std::memcpy(zf.get() + h * m.nz, z[p] + h * k * m.nz, sizeof(float) * m.nz);
       }
       m.RunPart(m.parts[p], first.get(), num_histories, zf.get(), 1, w);
       for (int64_t b = 0; b < B; ++b) {
         for (int64_t n : m.parts[p].nodes) {
-          std::memcpy(w.cur.get() + (b * N + n) * C, first.get() + ((b / k) * N + n) * C, sizeof(float) * C);
+          std::memcpy(w.cur + (b * N + n) * C, first.get() + ((b / k) * N + n) * C, sizeof(float) * C);
         }
       }
     } else {
-      m.RunPart(m.parts[p], w.cur.get(), B, z[p], varied ? 1 : k, w);
+      m.RunPart(m.parts[p], w.cur, B, z[p], varied ? 1 : k, w);
     }
     varied = varied || !is_fixed;
   }
   // Inverse DCT of the future frames: rows (sample, node, axis) x [n_pre, t_pred], then
   // transposed to [B, t_pred, N, 3].
   const int64_t Tp = m.idct.padded;
-  kernels::MatMul(w.cur.get(), B * N * 3, m.n_pre, m.idct, w.z.get());
+  kernels::MatMul(w.cur, B * N * 3, m.n_pre, m.idct, w.z);
   for (int64_t b = 0; b < B; ++b) {
-    const float* src = w.z.get() + b * N * 3 * Tp;
+    const float* src = w.z + b * N * 3 * Tp;
     float* dst = futures + b * m.t_pred * N * 3;
     for (int64_t na = 0; na < N * 3; ++na)
       for (int64_t t = 0; t < m.t_pred; ++t) dst[t * N * 3 + na] = src[na * Tp + t];

@@ -14,12 +14,12 @@ bool Available() {
          __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
 }
 
-AlignedFloats::AlignedFloats(int64_t n) : data(nullptr, std::free), size(n) {
+AlignedFloats::AlignedFloats(int64_t n, bool zero) : data(nullptr, std::free), size(n) {
   if (n <= 0) return;
   const size_t bytes = ((static_cast<size_t>(n) * sizeof(float) + 63) / 64) * 64;
   void* p = std::aligned_alloc(64, bytes);
   if (!p) throw std::bad_alloc();
-  std::memset(p, 0, bytes);
+  if (zero) std::memset(p, 0, bytes);
   data.reset(static_cast<float*>(p));
 }
 

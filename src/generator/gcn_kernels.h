@@ -16,11 +16,11 @@ namespace motionfork::kernels {
 // True when the CPU runs the AVX-512 kernels (AVX-512 F, DQ, BW and VL).
 bool Available();
 
-// A float buffer aligned to 64 bytes (one AVX-512 register).
+// A float buffer aligned to 64 bytes (one AVX-512 register), zero-filled unless zero = false.
 struct AlignedFloats {
   std::unique_ptr<float, void (*)(void*)> data{nullptr, nullptr};
   int64_t size = 0;
-  explicit AlignedFloats(int64_t n = 0);
+  explicit AlignedFloats(int64_t n = 0, bool zero = true);
   float* get() const { return data.get(); }
 };
 
