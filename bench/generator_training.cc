@@ -1,0 +1,163 @@
+// Benchmark: one GSPS training step with every loss, at the Human3.6M sizes, one thread.
+//
+//   bench_generator_training [--threads N]
+//
+// 16 histories x 100 futures (10 x 10 nested samples per part), 16 nodes, t_his 25, t_pred 100,
+// n_pre 10, hidden 256, 4 blocks, nz 64, two parts (the h36m skeleton's default partition); the
+// losses of training: past reconstruction, limb lengths, diversity per part, best-of-many,
+// best-of-many against 10 pseudo multimodal futures, the flow-prior NLL (configs/models/
+// flow_prior.yaml sizes, untrained: the cost does not depend on the weights) on every 3rd
+// predicted frame, the angle penalty (configs/constraints/h36m.yaml). Synthetic inputs: the time
+// does not depend on the values. Prints each phase's median over the steps and the peak memory.
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bodyparts/part_plan.h"
+#include "config/constraint_config.h"
+#include "config/flow_config.h"
+#include "config/skeleton_config.h"
+#include "constraints/torch/angle_penalty.h"
+#include "flow/flow_module.h"
+#include "flow/pose_prior.h"
+#include "generator/generator_net.h"
+#include "generator/latents.h"
+#include "generator/losses.h"
+#include "torch_util/blas_core.h"
+#include "torch_util/malloc_tuning.h"
+#include "torch_util/threads.h"
+
+using namespace motionfork;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(const Clock::time_point& t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+double PeakResidentMegabytes() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0;
+  char line[256];
+  double kb = 0;
+  while (std::fgets(line, sizeof line, f)) {
+    if (!std::strncmp(line, "VmHWM:", 6)) kb = std::atof(line + 6);
+  }
+  std::fclose(f);
+  return kb / 1024;
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  UseFastBlasKernels(argv);
+  KeepFreedMemory();
+  int threads = 1, steps = 3;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::max(1, std::atoi(argv[++i]));
+  }
+  PinThreads(threads);
+  torch::manual_seed(0);
+  const std::string configs = MOTIONFORK_BENCH_CONFIG_DIR;
+  const std::shared_ptr<const Skeleton> skeleton = LoadSkeletonConfig(configs + "/skeletons/h36m.yaml").skeleton;
+  const PartPlan plan = MakePartPlan(*skeleton, "default");
+  GeneratorOptions o;
+  o.num_nodes = skeleton->num_joints() - 1;
+  o.t_his = 25;
+  o.t_pred = 100;
+  o.n_pre = 10;
+  o.hidden = 256;
+  o.blocks = 4;
+  o.nz = 64;
+  GeneratorNet net(o, plan.nodes);
+  net->train();
+  torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(1e-3));
+
+  // The two optional terms, built as `motionfork train` builds them.
+  LossHooks hooks;
+  double angle_seconds = 0, prior_seconds = 0;  // forward time inside the two hooks, this step
+  auto penalty = std::make_shared<AnglePenalty>(
+      ConstraintSet::Build(LoadConstraintConfig(configs + "/constraints/h36m.yaml"), *skeleton));
+  hooks.angle_penalty = [penalty, &angle_seconds](const torch::Tensor& poses) {
+    const auto t0 = Clock::now();
+    auto sizes = poses.sizes().vec();
+    sizes[sizes.size() - 2] = 1;
+    torch::Tensor out = (*penalty)->forward(torch::cat({torch::zeros(sizes), poses}, -2));
+    angle_seconds = Seconds(t0);
+    return out;
+  };
+  auto prior = std::make_shared<PosePrior>(skeleton, LoadFlowConfig(configs + "/models/flow_prior.yaml"));
+  prior->module()->Freeze();
+  const std::vector<int> parents = skeleton->parents();
+  hooks.prior_nll = [prior, parents, &prior_seconds](const torch::Tensor& poses) {
+    const auto t0 = Clock::now();
+    torch::Tensor out = -prior->module()->log_prob(LimbDirectionsRootRelative(poses, parents)).mean();
+    prior_seconds = Seconds(t0);
+    return out;
+  };
+  LossWeights weights;
+  weights.diversity = {8, 25};  // GSPS H36M
+  weights.diversity_scale = {100, 300};
+
+  const int64_t Bh = 16, M = 10, N = o.num_nodes, T = o.num_frames();
+  const std::vector<int64_t> per_part = {10, 10};
+  std::vector<int64_t> node_parents(N);
+  for (int64_t n = 0; n < N; ++n) node_parents[n] = skeleton->parent(static_cast<int>(n) + 1) - 1;
+  at::Generator gen = MakeGenerator(0);
+  std::printf("training step: %lld histories x %lld futures, one thread: %d\n", static_cast<long long>(Bh),
+              static_cast<long long>(per_part[0] * per_part[1]), threads);
+  std::vector<double> forward, losses, backward, update, total, prior_time, angle_time;
+  for (int s = 0; s < steps + 1; ++s) {  // the first step warms up
+    const torch::Tensor truth = torch::randn({Bh, T, N, 3}) * 0.2;
+    const torch::Tensor pseudo = torch::randn({Bh, M, o.t_pred, N, 3}) * 0.2;
+    const torch::Tensor mask = torch::ones({Bh, M});
+    const auto z = NestedLatents(Bh, per_part, o.nz, gen);
+    const auto t0 = Clock::now();
+    LossBatch batch{net->forward(truth.slice(1, 0, o.t_his), z), truth, pseudo, mask,
+                    per_part, plan.nodes, node_parents, o.t_his};
+    const double t_forward = Seconds(t0);
+    const auto t1 = Clock::now();
+    const LossTerms terms = ComputeLosses(batch, weights, hooks, 0, 3);
+    const double t_losses = Seconds(t1);
+    const auto t2 = Clock::now();
+    adam.zero_grad();
+    terms.total.backward();
+    const double t_backward = Seconds(t2);
+    const auto t3 = Clock::now();
+    torch::nn::utils::clip_grad_norm_(net->parameters(), 100);
+    adam.step();
+    const double t_update = Seconds(t3);
+    if (s == 0) continue;
+    forward.push_back(t_forward);
+    losses.push_back(t_losses);
+    prior_time.push_back(prior_seconds);
+    angle_time.push_back(angle_seconds);
+    backward.push_back(t_backward);
+    update.push_back(t_update);
+    total.push_back(Seconds(t0));
+  }
+  std::printf("generator forward: %.2f s\n", Median(forward));
+  std::printf("losses (incl. prior NLL and angle penalty): %.2f s\n", Median(losses));
+  std::printf("  of which prior NLL forward %.2f s, angle penalty forward %.2f s\n", Median(prior_time),
+              Median(angle_time));
+  std::printf("backward (all terms): %.2f s\n", Median(backward));
+  std::printf("clip + Adam: %.3f s\n", Median(update));
+  std::printf("training step, all losses: %.2f s median of %d\n", Median(total), steps);
+  std::printf("peak resident memory: %.0f MB\n", PeakResidentMegabytes());
+  return 0;
+}
