@@ -87,12 +87,16 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
   add("best_of_many", std::get<0>(future_err.min(1)).mean(), w.best_of_many);
 
   if (b.pseudo.defined() && b.pseudo.size(1) > 0 && b.pseudo_mask.sum().item<float>() > 0) {
-    const int64_t M = b.pseudo.size(1);
-    // [Bh, M, K]: every pseudo future against every sample.
-    const torch::Tensor err = SequenceSquaredError(future.unsqueeze(1), b.pseudo.unsqueeze(2));
+    const int64_t M = b.pseudo.size(1), D = (T - b.t_his) * N * 3;
+    // [Bh, M, K]: every pseudo future against every sample, as |p|^2 + |f|^2 - 2 p.f (one batched
+    // matrix product): the direct difference would be a [Bh, M, K, t_pred, N, 3] tensor (300 MB
+    // at GSPS's sizes, kept for the backward pass), and took most of the step's loss time.
+    const torch::Tensor f = future.reshape({Bh, K, D}), p = b.pseudo.reshape({Bh, M, D});
+    const torch::Tensor err = (p.pow(2).sum(-1).unsqueeze(2) + f.pow(2).sum(-1).unsqueeze(1) -
+                               2 * torch::bmm(p, f.transpose(1, 2)))
+                                  .clamp_min(0);
     const torch::Tensor best = std::get<0>(err.min(2));  // [Bh, M]
     add("multimodal", (best * b.pseudo_mask).sum() / b.pseudo_mask.sum(), w.multimodal);
-    (void)M;
   } else {
     add("multimodal", torch::zeros({}), 0.0);
   }

@@ -6,7 +6,8 @@
 
 namespace motionfork {
 
-// Blocks up to 32 MB come from the heap, and up to 256 MB of freed heap stays in the process.
+// Every block comes from the heap, and up to 1 GB of freed heap stays in the process (the
+// process's peak memory is unchanged; its memory is not returned to the system until it exits).
 void KeepFreedMemory();
 
 }  // namespace motionfork
