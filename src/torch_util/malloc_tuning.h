@@ -6,8 +6,8 @@
 
 namespace motionfork {
 
-// Every block comes from the heap, and up to 1 GB of freed heap stays in the process (the
-// process's peak memory is unchanged; its memory is not returned to the system until it exits).
+// Every block comes from the heap, and freed heap stays in the process (its peak memory is
+// unchanged; memory is not returned to the system until the process exits).
 void KeepFreedMemory();
 
 }  // namespace motionfork
