@@ -20,7 +20,7 @@ struct Forecaster::Impl {
   PartPlan parts;
   GeneratorNet net{nullptr};
   // The fused inference path (AVX-512 CPUs; MOTIONFORK_FAST_GENERATOR=0 turns it off): the same
-  // futures as `net` up to float rounding, about 1.5x faster.
+  // futures as `net` up to float rounding, 1.2-1.6x faster (bench_generator, BENCHMARKS.md).
   std::unique_ptr<FastGenerator> fast;
   std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
 };
