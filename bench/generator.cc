@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fma_peak.h"
+#include "peak_memory.h"
 #include "generator/fast_generator.h"
 #include "generator/generator_net.h"
 #include "torch_util/threads.h"
@@ -53,19 +54,6 @@ double SixteenOneAtATime(Run& run, int reps) {
   return totals[totals.size() / 2];
 }
 
-// VmHWM of /proc/self/status, MB (0 where it cannot be read).
-double PeakResidentMegabytes() {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
-  if (!f) return 0;
-  char line[256];
-  double kb = 0;
-  while (std::fgets(line, sizeof line, f)) {
-    if (!std::strncmp(line, "VmHWM:", 6)) kb = std::atof(line + 6);
-  }
-  std::fclose(f);
-  return kb / 1024;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -92,7 +80,7 @@ int main(int argc, char** argv) {
   std::printf("generator: %lld parameters, %d thread(s)\n", static_cast<long long>(params), threads);
   const double gflop_per_sample = 2 * MacsPerSample(o, 2) / 1e9;
 
-  std::printf("peak resident memory with the network built: %.0f MB\n", PeakResidentMegabytes());
+  std::printf("peak resident memory with the network built: %.0f MB\n", bench::PeakResidentMegabytes());
   // The fused AVX-512 path (FastGenerator, what Forecaster uses on such CPUs): same work.
   if (FastGenerator::Available()) {
     // The core's peak varies on this machine kind (up to 20% between hours): measured here,
@@ -125,7 +113,7 @@ int main(int argc, char** argv) {
     const double per = SixteenOneAtATime(run_fast, 9);
     std::printf("fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s\n",
                 per * 1e3, 16 / per);
-    std::printf("peak resident memory after the fused inference: %.0f MB\n", PeakResidentMegabytes());
+    std::printf("peak resident memory after the fused inference: %.0f MB\n", bench::PeakResidentMegabytes());
   }
 
   auto run = [&](int64_t histories, int64_t k, int reps) {
@@ -154,7 +142,7 @@ int main(int argc, char** argv) {
   std::printf("16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
               per16 * 1e3, 16 / per16, 16 * 50 * gflop_per_sample / per16);
 
-  std::printf("peak resident memory after LibTorch's inference: %.0f MB\n", PeakResidentMegabytes());
+  std::printf("peak resident memory after LibTorch's inference: %.0f MB\n", bench::PeakResidentMegabytes());
 
   // Training step of the network alone (forward + backward of a squared loss), 16 x 100 futures.
   net->train();
@@ -172,6 +160,6 @@ int main(int argc, char** argv) {
   std::sort(steps.begin(), steps.end());
   std::printf("network training step, 16 histories x 100 futures (no losses): %.2f s median\n",
               steps[steps.size() / 2]);
-  std::printf("peak resident memory after the training steps: %.0f MB\n", PeakResidentMegabytes());
+  std::printf("peak resident memory after the training steps: %.0f MB\n", bench::PeakResidentMegabytes());
   return 0;
 }

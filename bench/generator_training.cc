@@ -27,6 +27,7 @@
 #include "constraints/torch/angle_penalty.h"
 #include "flow/flow_module.h"
 #include "flow/pose_prior.h"
+#include "peak_memory.h"
 #include "generator/generator_net.h"
 #include "generator/latents.h"
 #include "generator/losses.h"
@@ -42,18 +43,6 @@ using Clock = std::chrono::steady_clock;
 
 double Seconds(const Clock::time_point& t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-double PeakResidentMegabytes() {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
-  if (!f) return 0;
-  char line[256];
-  double kb = 0;
-  while (std::fgets(line, sizeof line, f)) {
-    if (!std::strncmp(line, "VmHWM:", 6)) kb = std::atof(line + 6);
-  }
-  std::fclose(f);
-  return kb / 1024;
 }
 
 double Median(std::vector<double> v) {
@@ -158,6 +147,6 @@ int main(int argc, char** argv) {
   std::printf("backward (all terms): %.2f s\n", Median(backward));
   std::printf("clip + Adam: %.3f s\n", Median(update));
   std::printf("training step, all losses: %.2f s median of %d\n", Median(total), steps);
-  std::printf("peak resident memory: %.0f MB\n", PeakResidentMegabytes());
+  std::printf("peak resident memory: %.0f MB\n", bench::PeakResidentMegabytes());
   return 0;
 }
