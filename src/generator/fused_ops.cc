@@ -1,12 +1,21 @@
 #include "generator/fused_ops.h"
 
+#include <ATen/Parallel.h>
 #include <Eigen/Core>
 
+#include <atomic>
+
+#include "generator/batch_norm_kernels.h"
 #include "generator/fast_tanh.h"
+#include "generator/gcn_kernels.h"
 
 namespace motionfork {
 
 namespace {
+
+std::atomic<bool> force_portable{false};
+
+bool UseAvx512() { return !force_portable.load() && kernels::Available(); }
 
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
@@ -29,77 +38,94 @@ class FastTanhFn : public torch::autograd::Function<FastTanhFn> {
 
 class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
  public:
-  // Returns {y, mean, var}; only y carries a gradient.
+  // Returns {y, mean, var}; only y carries a gradient. Saves x (not the normalised x: the
+  // backward pass recomputes it, one fewer [N, B, H] tensor written and kept).
   static variable_list forward(AutogradContext* ctx, const torch::Tensor& x_in,
                                const torch::Tensor& gamma_in, const torch::Tensor& beta_in, double eps) {
     const torch::Tensor x = x_in.contiguous();
     const torch::Tensor gamma = gamma_in.contiguous(), beta = beta_in.contiguous();
     const int64_t N = x.size(0), B = x.size(1), H = x.size(2);
-    torch::Tensor xhat = torch::empty_like(x), y = torch::empty_like(x);
+    torch::Tensor y = torch::empty_like(x);
     torch::Tensor mean = torch::empty({N, 1, H}), var = torch::empty({N, 1, H}), inv = torch::empty({N, 1, H});
-    const float* px = x.data_ptr<float>();
-    float* pxhat = xhat.data_ptr<float>();
-    float* py = y.data_ptr<float>();
-    for (int64_t n = 0; n < N; ++n) {
-      Row m(mean.data_ptr<float>() + n * H, H), v(var.data_ptr<float>() + n * H, H),
-          iv(inv.data_ptr<float>() + n * H, H);
-      m.setZero();
-      v.setZero();
-      for (int64_t b = 0; b < B; ++b) m += ConstRow(px + (n * B + b) * H, H);
-      m /= static_cast<float>(B);
-      for (int64_t b = 0; b < B; ++b) v += (ConstRow(px + (n * B + b) * H, H) - m).square();
-      v /= static_cast<float>(B);
-      iv = (v + static_cast<float>(eps)).rsqrt();
-      ConstRow g(gamma.data_ptr<float>() + n * H, H), be(beta.data_ptr<float>() + n * H, H);
-      for (int64_t b = 0; b < B; ++b) {
-        const int64_t o = (n * B + b) * H;
-        Row xh(pxhat + o, H);
-        xh = (ConstRow(px + o, H) - m) * iv;
-        Row(py + o, H) = xh * g + be;
+    const float *px = x.data_ptr<float>(), *pg = gamma.data_ptr<float>(), *pb = beta.data_ptr<float>();
+    float *py = y.data_ptr<float>(), *pm = mean.data_ptr<float>(), *pv = var.data_ptr<float>(),
+          *pi = inv.data_ptr<float>();
+    const bool avx512 = UseAvx512();
+    at::parallel_for(0, N, 1, [&](int64_t n0, int64_t n1) {
+      for (int64_t n = n0; n < n1; ++n) {
+        const int64_t o = n * B * H, c = n * H;
+        if (avx512) {
+          kernels::BatchNormTanhForward(px + o, B, H, pg + c, pb + c, static_cast<float>(eps), pm + c, pv + c,
+                                        pi + c, py + o);
+          continue;
+        }
+        Row m(pm + c, H), v(pv + c, H), iv(pi + c, H);
+        m.setZero();
+        v.setZero();
+        for (int64_t b = 0; b < B; ++b) m += ConstRow(px + o + b * H, H);
+        m /= static_cast<float>(B);
+        for (int64_t b = 0; b < B; ++b) v += (ConstRow(px + o + b * H, H) - m).square();
+        v /= static_cast<float>(B);
+        iv = (v + static_cast<float>(eps)).rsqrt();
+        const Eigen::ArrayXf k = iv * ConstRow(pg + c, H);
+        for (int64_t b = 0; b < B; ++b) {
+          Row(py + o + b * H, H) = (ConstRow(px + o + b * H, H) - m) * k + ConstRow(pb + c, H);
+        }
+        fast::Tanh(py + o, B * H);
       }
-    }
-    fast::Tanh(py, y.numel());
-    ctx->save_for_backward({xhat, y, gamma, inv});
+    });
+    ctx->save_for_backward({x, y, gamma, mean, inv});
     ctx->mark_non_differentiable({mean, var});
     return {y, mean, var};
   }
 
   static variable_list backward(AutogradContext* ctx, variable_list grad) {
     const auto saved = ctx->get_saved_variables();
-    const torch::Tensor &xhat = saved[0], &y = saved[1], &gamma = saved[2], &inv = saved[3];
+    const torch::Tensor &x = saved[0], &y = saved[1], &gamma = saved[2], &mean = saved[3], &inv = saved[4];
     const torch::Tensor gy = grad[0].contiguous();
     const int64_t N = y.size(0), B = y.size(1), H = y.size(2);
-    torch::Tensor gx = torch::empty_like(y), ggamma = torch::empty({N, 1, H}),
-                  gbeta = torch::empty({N, 1, H});
-    const float *pxh = xhat.data_ptr<float>(), *py = y.data_ptr<float>(), *pgy = gy.data_ptr<float>();
-    float* pgx = gx.data_ptr<float>();
-    for (int64_t n = 0; n < N; ++n) {
-      Row gg(ggamma.data_ptr<float>() + n * H, H), gb(gbeta.data_ptr<float>() + n * H, H);
-      gg.setZero();
-      gb.setZero();
-      // gu = gy * (1 - y^2), kept in gx for now.
-      for (int64_t b = 0; b < B; ++b) {
-        const int64_t o = (n * B + b) * H;
-        Row gu(pgx + o, H);
-        const ConstRow yy(py + o, H);
-        gu = ConstRow(pgy + o, H) * (1.0f - yy * yy);
-        gb += gu;
-        gg += gu * ConstRow(pxh + o, H);
+    torch::Tensor gx = torch::empty_like(y), ggamma = torch::empty({N, 1, H}), gbeta = torch::empty({N, 1, H});
+    const float *px = x.data_ptr<float>(), *py = y.data_ptr<float>(), *pgy = gy.data_ptr<float>(),
+                *pm = mean.data_ptr<float>(), *pi = inv.data_ptr<float>(), *pg = gamma.data_ptr<float>();
+    float *pgx = gx.data_ptr<float>(), *pgg = ggamma.data_ptr<float>(), *pgb = gbeta.data_ptr<float>();
+    const bool avx512 = UseAvx512();
+    at::parallel_for(0, N, 1, [&](int64_t n0, int64_t n1) {
+      for (int64_t n = n0; n < n1; ++n) {
+        const int64_t o = n * B * H, c = n * H;
+        if (avx512) {
+          kernels::BatchNormTanhBackward(pgy + o, px + o, py + o, pm + c, pi + c, pg + c, B, H, pgx + o, pgg + c,
+                                         pgb + c);
+          continue;
+        }
+        Row gg(pgg + c, H), gb(pgb + c, H);
+        const ConstRow m(pm + c, H), iv(pi + c, H);
+        gg.setZero();
+        gb.setZero();
+        // gu = gy * (1 - y^2), kept in gx for now; xhat = (x - mean) * inv.
+        for (int64_t b = 0; b < B; ++b) {
+          const int64_t r = o + b * H;
+          Row gu(pgx + r, H);
+          const ConstRow yy(py + r, H);
+          gu = ConstRow(pgy + r, H) * (1.0f - yy * yy);
+          gb += gu;
+          gg += gu * (ConstRow(px + r, H) - m) * iv;
+        }
+        // gx = gamma * inv / B * (B * gu - sum(gu) - xhat * sum(gu * xhat))
+        const Eigen::ArrayXf k = ConstRow(pg + c, H) * iv / static_cast<float>(B);
+        for (int64_t b = 0; b < B; ++b) {
+          const int64_t r = o + b * H;
+          Row g(pgx + r, H);
+          g = k * (static_cast<float>(B) * g - gb - (ConstRow(px + r, H) - m) * iv * gg);
+        }
       }
-      // gx = gamma * inv / B * (B * gu - sum(gu) - xhat * sum(gu * xhat))
-      const Eigen::ArrayXf k = ConstRow(gamma.data_ptr<float>() + n * H, H) *
-                               ConstRow(inv.data_ptr<float>() + n * H, H) / static_cast<float>(B);
-      for (int64_t b = 0; b < B; ++b) {
-        const int64_t o = (n * B + b) * H;
-        Row g(pgx + o, H);
-        g = k * (static_cast<float>(B) * g - gb - ConstRow(pxh + o, H) * gg);
-      }
-    }
+    });
     return {gx, ggamma, gbeta, torch::Tensor()};
   }
 };
 
 }  // namespace
+
+void UsePortableKernelsForTesting(bool on) { force_portable = on; }
 
 torch::Tensor FastTanh(const torch::Tensor& x) { return FastTanhFn::apply(x); }
 

@@ -19,6 +19,9 @@ torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
                             torch::Tensor* var);
 
+// Tests: run the portable code even on a CPU with AVX-512 (batch_norm_kernels.h), or not.
+void UsePortableKernelsForTesting(bool on);
+
 // Inference: tanh(x * scale + shift), scale/shift [N, 1, H], x [N, B, H]; no gradient.
 torch::Tensor ScaleShiftTanh(const torch::Tensor& x, const torch::Tensor& scale,
                              const torch::Tensor& shift);

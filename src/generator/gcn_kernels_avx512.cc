@@ -11,29 +11,7 @@
 namespace motionfork::kernels {
 namespace {
 
-// tanh(x) = 1 - 2 / (exp(2x) + 1). exp(2x) = 2^t with t = 2x log2(e) = n + f, n an integer,
-// |f| <= 1/2: 2^f by a degree-5 polynomial (coefficients fitted here for the least maximum
-// relative error on [-1/2, 1/2], 1.6e-7), 2^n by vscalefps; the reciprocal by rcp14 and one
-// Newton step. 17 instructions; absolute error < 3e-7 (tests).
-inline __m512 Tanh16(__m512 x) {
-  x = _mm512_min_ps(_mm512_max_ps(x, _mm512_set1_ps(-9.0f)), _mm512_set1_ps(9.0f));
-  const __m512 t = _mm512_mul_ps(x, _mm512_set1_ps(2.88539008177792681f));
-  // Round to the nearest integer by adding and subtracting 1.5 * 2^23 (one uop each, where
-  // vroundscaleps takes two).
-  const __m512 magic = _mm512_set1_ps(12582912.0f);
-  const __m512 n = _mm512_sub_ps(_mm512_add_ps(t, magic), magic);
-  const __m512 f = _mm512_sub_ps(t, n);
-  __m512 p = _mm512_set1_ps(0.001327647129073739f);
-  p = _mm512_fmadd_ps(p, f, _mm512_set1_ps(0.009675541892647743f));
-  p = _mm512_fmadd_ps(p, f, _mm512_set1_ps(0.05550713092088699f));
-  p = _mm512_fmadd_ps(p, f, _mm512_set1_ps(0.24022120237350464f));
-  p = _mm512_fmadd_ps(p, f, _mm512_set1_ps(0.6931469440460205f));
-  p = _mm512_fmadd_ps(p, f, _mm512_set1_ps(1.0000001192092896f));
-  const __m512 d = _mm512_add_ps(_mm512_scalef_ps(p, n), _mm512_set1_ps(1.0f));
-  __m512 inv = _mm512_rcp14_ps(d);
-  inv = _mm512_mul_ps(inv, _mm512_fnmadd_ps(d, inv, _mm512_set1_ps(2.0f)));
-  return _mm512_fnmadd_ps(_mm512_set1_ps(2.0f), inv, _mm512_set1_ps(1.0f));
-}
+#include "generator/tanh_avx512.inc"
 
 // R rows of X times one panel of V * 16 columns of W: R * V accumulators stay in registers over
 // all of K (8 x 48 measured fastest here: 11 loads per 24 multiply-adds).

@@ -87,8 +87,10 @@ torch::Tensor GeneratorNetImpl::Decode(const torch::Tensor& coeffs, const std::v
 
 torch::Tensor GeneratorNetImpl::Frames(const torch::Tensor& coeffs) const {
   const int64_t N = coeffs.size(0), B = coeffs.size(1), n = options_.n_pre;
-  const torch::Tensor x = torch::matmul(coeffs.view({N, B, 3, n}), idct_);  // [N, B, 3, T]
-  return x.permute({1, 3, 0, 2});                                            // [B, T, N, 3]
+  // Reorder the (small) coefficients, not the (large) frames: the result is contiguous, which
+  // every loss and its backward pass over the [B, T, N, 3] futures depend on for speed.
+  const torch::Tensor c = coeffs.view({N, B, 3, n}).permute({1, 3, 0, 2}).reshape({B, n, N * 3});
+  return torch::matmul(idct_.t(), c).view({B, options_.num_frames(), N, 3});  // [B, T, N, 3]
 }
 
 torch::Tensor GeneratorNetImpl::forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z,

@@ -1,0 +1,24 @@
+// AVX-512 kernels for the generator's training-mode hidden-layer activation: batch norm over the
+// samples of one graph node (statistics per feature) followed by tanh, forward and backward, in a
+// few passes over one node's [B, H] slab (1.6 MB at the sizes: it stays in the core's L2
+// between passes). No LibTorch; the caller (fused_ops.cc) loops over nodes and falls back to
+// portable code when kernels::Available() is false.
+#pragma once
+
+#include <cstdint>
+
+namespace motionfork::kernels {
+
+// x, y: [rows, width] row-major (one node's samples); gamma, beta, mean, var, inv: [width].
+// mean and var (biased) are the batch statistics, inv = 1 / sqrt(var + eps), and
+// y = tanh((x - mean) * inv * gamma + beta).
+void BatchNormTanhForward(const float* x, int64_t rows, int64_t width, const float* gamma,
+                          const float* beta, float eps, float* mean, float* var, float* inv, float* y);
+
+// The gradient of the above given gy = dL/dy: gx [rows, width] (may not alias gy), and this
+// node's ggamma, gbeta [width]. x, y, mean, inv as the forward pass left them.
+void BatchNormTanhBackward(const float* gy, const float* x, const float* y, const float* mean,
+                           const float* inv, const float* gamma, int64_t rows, int64_t width,
+                           float* gx, float* ggamma, float* gbeta);
+
+}  // namespace motionfork::kernels
