@@ -20,6 +20,18 @@ Sizes SizesOf(const torch::Tensor& pred, int64_t t_his) {
   return {pred.size(0), pred.size(1), pred.size(2), pred.size(3), t_his};
 }
 
+// Sample i's predicted frames [T, N, 3] and its history's true frames.
+struct Sample {
+  const float* pred;
+  const float* truth;
+  int64_t history;  // b in [0, Bh)
+};
+
+inline Sample SampleAt(const Sizes& s, const float* pred, const float* truth, int64_t i) {
+  const int64_t frames = s.T * s.N * 3, b = i / s.K;
+  return {pred + i * frames, truth + b * frames, b};
+}
+
 // Bone length of node n in one pose p [N, 3]; its vector to *d.
 inline float Bone(const float* p, int64_t n, int64_t parent, float d[3]) {
   for (int c = 0; c < 3; ++c) d[c] = p[n * 3 + c] - (parent < 0 ? 0.0f : p[parent * 3 + c]);
@@ -42,9 +54,7 @@ class PoseErrorsFn : public torch::autograd::Function<PoseErrorsFn> {
     const int64_t pose = s.N * 3;
     at::parallel_for(0, s.Bh * s.K, 1, [&](int64_t i0, int64_t i1) {
       for (int64_t i = i0; i < i1; ++i) {
-        const int64_t b = i / s.K;
-        const float* p = pp + i * s.T * pose;
-        const float* t = pt + b * s.T * pose;
+        const auto [p, t, b] = SampleAt(s, pp, pt, i);
         double e_past = 0, e_future = 0, norm = 0;
         for (int64_t f = 0; f < s.T; ++f) {
           double e = 0, q = 0;
@@ -100,9 +110,7 @@ class PoseErrorsFn : public torch::autograd::Function<PoseErrorsFn> {
     const int64_t pose = s.N * 3;
     at::parallel_for(0, s.Bh * s.K, 1, [&](int64_t i0, int64_t i1) {
       for (int64_t i = i0; i < i1; ++i) {
-        const int64_t b = i / s.K;
-        const float* p = pp + i * s.T * pose;
-        const float* t = pt + b * s.T * pose;
+        const auto [p, t, b] = SampleAt(s, pp, pt, i);
         float* g = out + i * s.T * pose;
         const float past = 2.0f * gp[i] / static_cast<float>(s.t_his), future = 2.0f * gf[i], norm = 2.0f * gn[i];
         for (int64_t f = 0; f < s.T; ++f) {

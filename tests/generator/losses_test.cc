@@ -15,25 +15,36 @@ torch::Tensor Term(const LossTerms& terms, const std::string& name) {
   return {};
 }
 
+// The two tests' batch: Bh = 2 histories, samples nested 2 x 3 over two parts of 5 nodes, t_his 4.
+LossBatch SmallBatch(int64_t T) {
+  LossBatch b;
+  b.truth = torch::randn({2, T, 5, 3}) * 0.3;
+  b.per_part = {2, 3};
+  b.part_nodes = {{0, 1}, {2, 3, 4}};
+  b.node_parents = {-1, 0, -1, 2, 3};
+  b.t_his = 4;
+  return b;
+}
+
+LossWeights UnitDiversity() {
+  LossWeights w;
+  w.diversity = {1, 1};
+  w.diversity_scale = {1, 1};
+  return w;
+}
+
 }  // namespace
 
 TEST_CASE("losses: pseudo multimodal term equals the direct squared distances, values and gradients") {
   PinThreads(1);
   torch::manual_seed(3);
   const int64_t Bh = 2, K = 6, M = 3, t_his = 4, T = 10, N = 5;
-  LossBatch b;
   const torch::Tensor pred = (torch::randn({Bh * K, T, N, 3}) * 0.3).requires_grad_(true);
+  LossBatch b = SmallBatch(T);
   b.pred = pred;
-  b.truth = torch::randn({Bh, T, N, 3}) * 0.3;
   b.pseudo = torch::randn({Bh, M, T - t_his, N, 3}) * 0.3;
   b.pseudo_mask = torch::tensor({1.0f, 1.0f, 0.0f, 1.0f, 0.0f, 0.0f}).view({Bh, M});
-  b.per_part = {2, 3};
-  b.part_nodes = {{0, 1}, {2, 3, 4}};
-  b.node_parents = {-1, 0, -1, 2, 3};
-  b.t_his = t_his;
-  LossWeights w;
-  w.diversity = {1, 1};
-  w.diversity_scale = {1, 1};
+  const LossWeights w = UnitDiversity();
   const LossTerms terms = ComputeLosses(b, w, LossHooks{}, 0, 1);
   const torch::Tensor got = Term(terms, "multimodal");
   const torch::Tensor grad_got = torch::autograd::grad({got}, {pred})[0];
@@ -54,19 +65,11 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
   PinThreads(1);
   torch::manual_seed(4);
   const int64_t Bh = 2, K = 6, t_his = 4, T = 10, N = 5;
-  const std::vector<int64_t> per_part = {2, 3};
   torch::Tensor pred0 = torch::randn({Bh * K, T, N, 3}) * 0.3;
   pred0[0][2][3].zero_();  // a zero-length bone from node 2 (hangs from the origin) ...
   pred0[1][5][4] = pred0[1][5][3].clone();  // ... and one between nodes 3 and 4: no NaN gradient
-  LossBatch b;
-  b.truth = torch::randn({Bh, T, N, 3}) * 0.3;
-  b.per_part = per_part;
-  b.part_nodes = {{0, 1}, {2, 3, 4}};
-  b.node_parents = {-1, 0, -1, 2, 3};
-  b.t_his = t_his;
-  LossWeights w;
-  w.diversity = {1, 1};
-  w.diversity_scale = {1, 1};
+  LossBatch b = SmallBatch(T);
+  const LossWeights w = UnitDiversity();
   torch::Tensor prior_frames;
   LossHooks hooks;
   hooks.prior_nll = [&](const torch::Tensor& poses) {
