@@ -15,10 +15,12 @@ namespace motionfork::kernels {
 void BatchNormTanhForward(const float* x, int64_t rows, int64_t width, const float* gamma,
                           const float* beta, float eps, float* mean, float* var, float* inv, float* y);
 
-// The gradient of the above given gy = dL/dy: gx [rows, width] (may not alias gy), and this
-// node's ggamma, gbeta [width]. x, y, mean, inv as the forward pass left them.
+// The gradient of the above given gy = dL/dy: gx [rows, width] (may not alias gy), this node's
+// ggamma, gbeta [width] and gsum [width], the column sums of gx (the gradient of a bias added to x
+// before the batch norm, which the normalisation cancels). x, y, mean, inv as the forward pass left
+// them.
 void BatchNormTanhBackward(const float* gy, const float* x, const float* y, const float* mean,
                            const float* inv, const float* gamma, int64_t rows, int64_t width,
-                           float* gx, float* ggamma, float* gbeta);
+                           float* gx, float* ggamma, float* gbeta, float* gsum);
 
 }  // namespace motionfork::kernels

@@ -77,7 +77,7 @@ void ForwardBlock(const float* x, int64_t rows, int64_t width, int64_t h0, int64
 
 void BackwardBlock(const float* gy, const float* x, const float* y, const float* mean, const float* inv,
                    const float* gamma, int64_t rows, int64_t width, int64_t h0, int64_t h1, float* gx,
-                   float* ggamma, float* gbeta) {
+                   float* ggamma, float* gbeta, float* gsum) {
   __mmask16 m[kBlockVectors];
   __m512 mu[kBlockVectors], iv[kBlockVectors], gb[kBlockVectors], gg[kBlockVectors];
   for (int v = 0; v < kBlockVectors; ++v) {
@@ -111,8 +111,9 @@ void BackwardBlock(const float* gy, const float* x, const float* y, const float*
   // gx = gamma * inv / B * (B * gu - gbeta - xhat * ggamma)
   const __m512 vb = _mm512_set1_ps(static_cast<float>(rows));
   const __m512 per_row = _mm512_set1_ps(1.0f / static_cast<float>(rows));
-  __m512 k[kBlockVectors];
+  __m512 k[kBlockVectors], sum[kBlockVectors];
   for (int v = 0; v < kBlockVectors; ++v) {
+    sum[v] = _mm512_setzero_ps();
     const int64_t h = h0 + 16 * v;
     Store(gbeta + h, m[v], gb[v]);
     Store(ggamma + h, m[v], gg[v]);
@@ -124,9 +125,12 @@ void BackwardBlock(const float* gy, const float* x, const float* y, const float*
       const __m512 xhat = _mm512_mul_ps(_mm512_sub_ps(Load(x + o + 16 * v, m[v]), mu[v]), iv[v]);
       const __m512 inner =
           _mm512_fnmadd_ps(xhat, gg[v], _mm512_fmsub_ps(vb, Load(gx + o + 16 * v, m[v]), gb[v]));
-      Store(gx + o + 16 * v, m[v], _mm512_mul_ps(k[v], inner));
+      const __m512 g = _mm512_mul_ps(k[v], inner);
+      Store(gx + o + 16 * v, m[v], g);
+      sum[v] = _mm512_add_ps(sum[v], g);
     }
   }
+  for (int v = 0; v < kBlockVectors; ++v) Store(gsum + h0 + 16 * v, m[v], sum[v]);
 }
 
 }  // namespace
@@ -141,10 +145,10 @@ void BatchNormTanhForward(const float* x, int64_t rows, int64_t width, const flo
 
 void BatchNormTanhBackward(const float* gy, const float* x, const float* y, const float* mean,
                            const float* inv, const float* gamma, int64_t rows, int64_t width,
-                           float* gx, float* ggamma, float* gbeta) {
+                           float* gx, float* ggamma, float* gbeta, float* gsum) {
   for (int64_t h0 = 0; h0 < width; h0 += kBlockColumns) {
     const int64_t h1 = h0 + kBlockColumns < width ? h0 + kBlockColumns : width;
-    BackwardBlock(gy, x, y, mean, inv, gamma, rows, width, h0, h1, gx, ggamma, gbeta);
+    BackwardBlock(gy, x, y, mean, inv, gamma, rows, width, h0, h1, gx, ggamma, gbeta, gsum);
   }
 }
 

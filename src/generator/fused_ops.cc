@@ -40,8 +40,8 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
  public:
   // Returns {y, mean, var}; only y carries a gradient. Saves x (not the normalised x: the
   // backward pass recomputes it, one fewer [N, B, H] tensor written and kept).
-  static variable_list forward(AutogradContext* ctx, const torch::Tensor& x_in,
-                               const torch::Tensor& gamma_in, const torch::Tensor& beta_in, double eps) {
+  static variable_list forward(AutogradContext* ctx, const torch::Tensor& x_in, const torch::Tensor& gamma_in,
+                               const torch::Tensor& beta_in, const torch::Tensor& bias, double eps) {
     const torch::Tensor x = x_in.contiguous();
     const torch::Tensor gamma = gamma_in.contiguous(), beta = beta_in.contiguous();
     const int64_t N = x.size(0), B = x.size(1), H = x.size(2);
@@ -75,8 +75,9 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
       }
     });
     ctx->save_for_backward({x, y, gamma, mean, inv});
-    ctx->mark_non_differentiable({mean, var});
-    return {y, mean, var};
+    const torch::Tensor shifted = mean + bias.view({1, 1, H});  // the statistics of x + bias
+    ctx->mark_non_differentiable({shifted, var});
+    return {y, shifted, var};
   }
 
   static variable_list backward(AutogradContext* ctx, variable_list grad) {
@@ -84,17 +85,19 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
     const torch::Tensor &x = saved[0], &y = saved[1], &gamma = saved[2], &mean = saved[3], &inv = saved[4];
     const torch::Tensor gy = grad[0].contiguous();
     const int64_t N = y.size(0), B = y.size(1), H = y.size(2);
-    torch::Tensor gx = torch::empty_like(y), ggamma = torch::empty({N, 1, H}), gbeta = torch::empty({N, 1, H});
+    torch::Tensor gx = torch::empty_like(y), ggamma = torch::empty({N, 1, H}), gbeta = torch::empty({N, 1, H}),
+                  gsum = torch::empty({N, H});
     const float *px = x.data_ptr<float>(), *py = y.data_ptr<float>(), *pgy = gy.data_ptr<float>(),
                 *pm = mean.data_ptr<float>(), *pi = inv.data_ptr<float>(), *pg = gamma.data_ptr<float>();
-    float *pgx = gx.data_ptr<float>(), *pgg = ggamma.data_ptr<float>(), *pgb = gbeta.data_ptr<float>();
+    float *pgx = gx.data_ptr<float>(), *pgg = ggamma.data_ptr<float>(), *pgb = gbeta.data_ptr<float>(),
+          *pgs = gsum.data_ptr<float>();
     const bool avx512 = UseAvx512();
     at::parallel_for(0, N, 1, [&](int64_t n0, int64_t n1) {
       for (int64_t n = n0; n < n1; ++n) {
         const int64_t o = n * B * H, c = n * H;
         if (avx512) {
           kernels::BatchNormTanhBackward(pgy + o, px + o, py + o, pm + c, pi + c, pg + c, B, H, pgx + o, pgg + c,
-                                         pgb + c);
+                                         pgb + c, pgs + c);
           continue;
         }
         Row gg(pgg + c, H), gb(pgb + c, H);
@@ -112,14 +115,17 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
         }
         // gx = gamma * inv / B * (B * gu - sum(gu) - xhat * sum(gu * xhat))
         const Eigen::ArrayXf k = ConstRow(pg + c, H) * iv / static_cast<float>(B);
+        Row sum(pgs + c, H);
+        sum.setZero();
         for (int64_t b = 0; b < B; ++b) {
           const int64_t r = o + b * H;
           Row g(pgx + r, H);
           g = k * (static_cast<float>(B) * g - gb - (ConstRow(px + r, H) - m) * iv * gg);
+          sum += g;
         }
       }
     });
-    return {gx, ggamma, gbeta, torch::Tensor()};
+    return {gx, ggamma, gbeta, gsum.sum(0), torch::Tensor()};
   }
 };
 
@@ -131,8 +137,9 @@ torch::Tensor FastTanh(const torch::Tensor& x) { return FastTanhFn::apply(x); }
 
 torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
-                            torch::Tensor* var) {
-  variable_list out = BatchNormTanhFn::apply(x, gamma, beta, eps);
+                            torch::Tensor* var, const torch::Tensor& bias) {
+  // (An autograd function's inputs must all be defined: no bias is a zero one.)
+  variable_list out = BatchNormTanhFn::apply(x, gamma, beta, bias.defined() ? bias : torch::zeros({x.size(2)}), eps);
   if (mean) *mean = out[1];
   if (var) *var = out[2];
   return out[0];

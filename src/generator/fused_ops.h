@@ -12,12 +12,14 @@ namespace motionfork {
 // tanh(x), x any contiguous float tensor; differentiable.
 torch::Tensor FastTanh(const torch::Tensor& x);
 
-// Training-mode batch norm over dimension 1 of x [N, B, H] (statistics per (node, feature)),
-// affine gamma/beta [N, 1, H], then tanh; differentiable in x, gamma and beta. Writes the batch
-// mean and biased variance [N, 1, H] to *mean and *var (for running statistics).
+// Training-mode batch norm over dimension 1 of x + bias (x [N, B, H], bias [H] or undefined:
+// statistics per (node, feature)), affine gamma/beta [N, 1, H], then tanh; differentiable in x,
+// gamma, beta and bias. Writes the batch mean and biased variance [N, 1, H] of x + bias to *mean
+// and *var (for running statistics). The bias is never added: the normalisation subtracts it again
+// (one pass over x fewer); it only shifts the mean, and its gradient is the sum of x's.
 torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
-                            torch::Tensor* var);
+                            torch::Tensor* var, const torch::Tensor& bias = {});
 
 // Tests: run the portable code even on a CPU with AVX-512 (batch_norm_kernels.h), or not.
 void UsePortableKernelsForTesting(bool on);

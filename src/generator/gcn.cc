@@ -20,10 +20,15 @@ GraphConvImpl::GraphConvImpl(int64_t nodes, int64_t in_features, int64_t out_fea
 }
 
 torch::Tensor GraphConvImpl::forward(const torch::Tensor& x, const torch::Tensor& z) {
+  return Mix(x, z) + bias;
+}
+
+torch::Tensor GraphConvImpl::Mix(const torch::Tensor& x, const torch::Tensor& z) {
   const int64_t N = x.size(0), B = x.size(1), out = weight.size(1);
   torch::Tensor support = x.reshape({N * B, x.size(2)}).mm(weight).view({N, B, out});
-  if (z.defined()) support = support + z.mm(shared_weight).unsqueeze(0);
-  return adjacency.mm(support.reshape({N, B * out})).view({N, B, out}) + bias;
+  // In place: the product's backward pass does not need its result.
+  if (z.defined()) support.add_(z.mm(shared_weight).unsqueeze(0));
+  return adjacency.mm(support.reshape({N, B * out})).view({N, B, out});
 }
 
 NodeBatchNormImpl::NodeBatchNormImpl(int64_t nodes, int64_t features, double momentum_, double eps_)
@@ -59,21 +64,23 @@ GraphLayerImpl::GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t s
 }
 
 torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z) {
-  torch::Tensor y = conv->forward(x, z);
+  torch::Tensor y;
   if (!norm) {
-    y = FastTanh(y);
-  } else if (is_training() && y.size(1) > 1) {
+    y = FastTanh(conv->forward(x, z));
+  } else if (is_training() && x.size(1) > 1) {
+    // The conv's bias goes to the batch norm, which cancels it (it is never added).
     torch::Tensor mean, var;
-    y = BatchNormTanh(y, norm->gamma, norm->beta, norm->eps, &mean, &var);
+    y = BatchNormTanh(conv->Mix(x, z), norm->gamma, norm->beta, norm->eps, &mean, &var, conv->bias);
     torch::NoGradGuard no_grad;
     const double n = static_cast<double>(x.size(1));
     norm->running_mean.mul_(1 - norm->momentum).add_(norm->momentum * mean);
     norm->running_var.mul_(1 - norm->momentum).add_(norm->momentum * var * (n / (n - 1)));
   } else if (!torch::GradMode::is_enabled()) {
+    y = conv->forward(x, z);
     const torch::Tensor scale = norm->gamma * torch::rsqrt(norm->running_var + norm->eps);
     y = ScaleShiftTanh(y, scale, norm->beta - norm->running_mean * scale);
   } else {
-    y = FastTanh(norm->forward(y));
+    y = FastTanh(norm->forward(conv->forward(x, z)));
   }
   if (dropout > 0 && is_training()) y = torch::dropout(y, dropout, /*train=*/true);
   return y;

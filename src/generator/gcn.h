@@ -17,6 +17,8 @@ class GraphConvImpl : public torch::nn::Module {
   GraphConvImpl(int64_t nodes, int64_t in_features, int64_t out_features, int64_t shared_features = 0);
   // x: [N, B, in]; z: [B, shared] or undefined. Returns [N, B, out].
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& z = {});
+  // A (X W [+ z Wz]) without the bias (for a batch norm that takes the bias itself).
+  torch::Tensor Mix(const torch::Tensor& x, const torch::Tensor& z = {});
 
   torch::Tensor weight, shared_weight, adjacency, bias;
 };

@@ -106,25 +106,31 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
   const bool portable = GENERATE(false, true);
   const std::vector<int64_t> shape = GENERATE(std::vector<int64_t>{4, 9, 7}, std::vector<int64_t>{3, 50, 16},
                                               std::vector<int64_t>{2, 33, 40});
-  INFO("portable " << portable << ", shape " << c10::str(shape));
+  const bool with_bias = GENERATE(false, true);
+  INFO("portable " << portable << ", shape " << c10::str(shape) << ", bias " << with_bias);
   UsePortableKernelsForTesting(portable);
   const int64_t N = shape[0], H = shape[2];
   const torch::Tensor x0 = torch::randn(shape) * 2 + 0.5;
-  const torch::Tensor g0 = torch::randn({N, 1, H}), b0 = torch::randn({N, 1, H});
+  const torch::Tensor g0 = torch::randn({N, 1, H}), b0 = torch::randn({N, 1, H}), c0 = torch::randn({H});
   auto run = [&](bool fused) {
     torch::Tensor x = x0.clone().requires_grad_(true), g = g0.clone().requires_grad_(true),
-                  b = b0.clone().requires_grad_(true);
+                  b = b0.clone().requires_grad_(true), c = c0.clone().requires_grad_(true);
     torch::Tensor y, mean, var;
     if (fused) {
-      y = BatchNormTanh(x, g, b, 1e-5, &mean, &var);
+      y = BatchNormTanh(x, g, b, 1e-5, &mean, &var, with_bias ? c : torch::Tensor());
     } else {
-      mean = x.mean(1, true);
-      var = (x - mean).pow(2).mean(1, true);
-      y = torch::tanh((x - mean) * torch::rsqrt(var + 1e-5) * g + b);
+      const torch::Tensor xc = with_bias ? x + c : x;
+      mean = xc.mean(1, true);
+      var = (xc - mean).pow(2).mean(1, true);
+      y = torch::tanh((xc - mean) * torch::rsqrt(var + 1e-5) * g + b);
     }
-    const torch::Tensor w = torch::linspace(-1, 1, y.numel()).view(y.sizes());
+    // Weights that do not sum to zero over the samples, so that the bias's gradient (the sum of
+    // x's) is a real number to compare, not only rounding noise.
+    const torch::Tensor w = torch::linspace(-1, 1, y.numel()).view(y.sizes()).pow(3) + 0.1 * x0;
     (y * w).sum().backward();
-    return std::vector<torch::Tensor>{y.detach(), mean.detach(), var.detach(), x.grad(), g.grad(), b.grad()};
+    std::vector<torch::Tensor> out = {y.detach(), mean.detach(), var.detach(), x.grad(), g.grad(), b.grad()};
+    if (with_bias) out.push_back(c.grad());
+    return out;
   };
   const auto a = run(true), r = run(false);
   UsePortableKernelsForTesting(false);
