@@ -139,7 +139,8 @@ torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
                             torch::Tensor* var, const torch::Tensor& bias) {
   // (An autograd function's inputs must all be defined: no bias is a zero one.)
-  variable_list out = BatchNormTanhFn::apply(x, gamma, beta, bias.defined() ? bias : torch::zeros({x.size(2)}), eps);
+  const torch::Tensor b = bias.defined() ? bias : torch::zeros({x.size(2)});
+  variable_list out = BatchNormTanhFn::apply(x, gamma, beta, b, eps);
   if (mean) *mean = out[1];
   if (var) *var = out[2];
   return out[0];
