@@ -152,20 +152,18 @@ PoseErrors ComputePoseErrors(const torch::Tensor& pred, const torch::Tensor& tru
                                 std::to_string(node_parents.size()) + " and 0 < t_his < T, got " +
                                 c10::str(pred.sizes()) + " and " + c10::str(truth.sizes()));
   }
-  const int64_t N = truth.size(2);
-  torch::Tensor truth_len;
-  {
-    // The truth's bone lengths at the last history frame [Bh, N] (constant).
-    torch::NoGradGuard no_grad;
-    const torch::Tensor last = truth.select(1, t_his - 1).contiguous();
-    std::vector<int64_t> index(N);
-    std::vector<float> from_origin(N);
+  // The truth's bone lengths at the last history frame [Bh, N] (constant), as the predictions' are
+  // measured.
+  const int64_t Bh = truth.size(0), N = truth.size(2);
+  const torch::Tensor last = truth.detach().select(1, t_his - 1).contiguous();
+  torch::Tensor truth_len = torch::empty({Bh, N});
+  const float* pose = last.data_ptr<float>();
+  float* len = truth_len.data_ptr<float>();
+  for (int64_t b = 0; b < Bh; ++b) {
     for (int64_t n = 0; n < N; ++n) {
-      index[n] = node_parents[n] < 0 ? n : node_parents[n];
-      from_origin[n] = node_parents[n] < 0 ? 1.0f : 0.0f;
+      float d[3];
+      len[b * N + n] = Bone(pose + b * N * 3, n, node_parents[n], d);
     }
-    const torch::Tensor parent = last.index_select(1, torch::tensor(index)) * (1 - torch::tensor(from_origin).view({N, 1}));
-    truth_len = (last - parent).norm(2, -1);
   }
   const variable_list out = PoseErrorsFn::apply(pred, truth.detach(), truth_len, t_his, node_parents);
   return {out[0], out[1], out[2], out[3]};
