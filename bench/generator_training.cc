@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
     rusage ru0;
     getrusage(RUSAGE_SELF, &ru0);
     const auto t0 = Clock::now();
-    LossBatch batch{net->forward(truth.slice(1, 0, o.t_his), z), truth, pseudo, mask,
+    LossBatch batch{net->ForwardNested(truth.slice(1, 0, o.t_his), z, per_part), truth, pseudo, mask,
                     per_part, plan.nodes, node_parents, o.t_his};
     const double t_forward = Seconds(t0);
     const auto t1 = Clock::now();

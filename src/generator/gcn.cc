@@ -63,16 +63,16 @@ GraphLayerImpl::GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t s
   if (batch_norm) norm = register_module("norm", NodeBatchNorm(nodes, out));
 }
 
-torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z) {
+torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z, int64_t copies) {
   torch::Tensor y;
+  const double n = static_cast<double>(x.size(1) * copies);  // samples the batch stands for
   if (!norm) {
     y = FastTanh(conv->forward(x, z));
-  } else if (is_training() && x.size(1) > 1) {
+  } else if (is_training() && n > 1) {
     // The conv's bias goes to the batch norm, which cancels it (it is never added).
     torch::Tensor mean, var;
     y = BatchNormTanh(conv->Mix(x, z), norm->gamma, norm->beta, norm->eps, &mean, &var, conv->bias);
     torch::NoGradGuard no_grad;
-    const double n = static_cast<double>(x.size(1));
     norm->running_mean.mul_(1 - norm->momentum).add_(norm->momentum * mean);
     norm->running_var.mul_(1 - norm->momentum).add_(norm->momentum * var * (n / (n - 1)));
   } else if (!torch::GradMode::is_enabled()) {
@@ -91,8 +91,8 @@ ResidualBlockImpl::ResidualBlockImpl(int64_t nodes, int64_t features, bool batch
   second = register_module("second", GraphLayer(nodes, features, features, 0, batch_norm, dropout));
 }
 
-torch::Tensor ResidualBlockImpl::forward(const torch::Tensor& x) {
-  return second->forward(first->forward(x)) + x;
+torch::Tensor ResidualBlockImpl::forward(const torch::Tensor& x, int64_t copies) {
+  return second->forward(first->forward(x, {}, copies), {}, copies) + x;
 }
 
 PartNetworkImpl::PartNetworkImpl(int64_t nodes, int64_t coeff_features, int64_t hidden,
@@ -105,9 +105,9 @@ PartNetworkImpl::PartNetworkImpl(int64_t nodes, int64_t coeff_features, int64_t 
   output = register_module("output", GraphConv(nodes, hidden, coeff_features, 0));
 }
 
-torch::Tensor PartNetworkImpl::forward(const torch::Tensor& coeffs, const torch::Tensor& z) {
-  torch::Tensor y = input->forward(coeffs, z);
-  for (const auto& block : *blocks) y = block->as<ResidualBlock>()->forward(y);
+torch::Tensor PartNetworkImpl::forward(const torch::Tensor& coeffs, const torch::Tensor& z, int64_t copies) {
+  torch::Tensor y = input->forward(coeffs, z, copies);
+  for (const auto& block : *blocks) y = block->as<ResidualBlock>()->forward(y, copies);
   return output->forward(y) + coeffs;
 }
 

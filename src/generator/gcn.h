@@ -37,10 +37,15 @@ class NodeBatchNormImpl : public torch::nn::Module {
 TORCH_MODULE(NodeBatchNorm);
 
 // graph-conv -> [batch norm] -> tanh -> [dropout]
+//
+// copies (training): each of x's B rows stands for `copies` identical samples (the nested
+// training batch computes a part once per distinct input, GeneratorNetImpl::ForwardNested). The
+// batch statistics of equal copies are those of the rows, so only the running variance's
+// unbiased correction, B * copies / (B * copies - 1), sees the count.
 class GraphLayerImpl : public torch::nn::Module {
  public:
   GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t shared, bool batch_norm, double dropout);
-  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& z = {});
+  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& z = {}, int64_t copies = 1);
 
   GraphConv conv{nullptr};
   NodeBatchNorm norm{nullptr};
@@ -52,7 +57,7 @@ TORCH_MODULE(GraphLayer);
 class ResidualBlockImpl : public torch::nn::Module {
  public:
   ResidualBlockImpl(int64_t nodes, int64_t features, bool batch_norm, double dropout);
-  torch::Tensor forward(const torch::Tensor& x);
+  torch::Tensor forward(const torch::Tensor& x, int64_t copies = 1);
 
   GraphLayer first{nullptr}, second{nullptr};
 };
@@ -64,8 +69,8 @@ class PartNetworkImpl : public torch::nn::Module {
  public:
   PartNetworkImpl(int64_t nodes, int64_t coeff_features, int64_t hidden, int64_t blocks, int64_t nz,
                   bool batch_norm, double dropout);
-  // coeffs: [N, B, C]; z: [B, nz]. Returns [N, B, C].
-  torch::Tensor forward(const torch::Tensor& coeffs, const torch::Tensor& z);
+  // coeffs: [N, B, C]; z: [B, nz]. Returns [N, B, C]. copies: as for GraphLayer.
+  torch::Tensor forward(const torch::Tensor& coeffs, const torch::Tensor& z, int64_t copies = 1);
 
   GraphLayer input{nullptr};
   torch::nn::ModuleList blocks;

@@ -103,4 +103,36 @@ torch::Tensor GeneratorNetImpl::forward(const torch::Tensor& history, const std:
   return Frames(Decode(RepeatSamples(EncodeHistory(history), k), z, fixed, k));
 }
 
+torch::Tensor GeneratorNetImpl::ForwardNested(const torch::Tensor& history, const std::vector<torch::Tensor>& z,
+                                              const std::vector<int64_t>& per_part) {
+  if (options_.dropout > 0 && is_training()) return forward(history, z);
+  const int64_t Bh = history.size(0);
+  int64_t K = 1;
+  for (int64_t n : per_part) K *= n;
+  if (per_part.size() != parts_.size() || z.size() != parts_.size()) {
+    throw std::invalid_argument("generator: expected " + std::to_string(parts_.size()) +
+                                " latents and sample counts (one per part), got " + std::to_string(z.size()) +
+                                " and " + std::to_string(per_part.size()));
+  }
+  torch::Tensor current = EncodeHistory(history);  // [N, Bh, C]
+  int64_t rows = 1;                                // distinct samples per history so far
+  for (size_t p = 0; p < parts_.size(); ++p) {
+    rows *= per_part[p];
+    const int64_t copies = K / rows;
+    if (z[p].dim() != 2 || z[p].size(0) != Bh * K) {
+      throw std::invalid_argument("generator: latent " + std::to_string(p) + " must hold " +
+                                  std::to_string(Bh * K) + " rows, got " + c10::str(z[p].sizes()));
+    }
+    const torch::Tensor blocks = z[p].reshape({Bh * rows, copies, z[p].size(1)});
+    const torch::Tensor zp = blocks.select(1, 0);
+    if (!torch::equal(blocks, zp.unsqueeze(1).expand_as(blocks))) {
+      throw std::invalid_argument("generator: latent " + std::to_string(p) +
+                                  " is not nested (each code repeated for the later parts' samples)");
+    }
+    current = RepeatSamples(current, per_part[p]);
+    current = torch::where(masks_[p], parts_[p]->forward(current, zp, copies), current);
+  }
+  return Frames(current);
+}
+
 }  // namespace motionfork

@@ -42,6 +42,15 @@ class GeneratorNetImpl : public torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& history, const std::vector<torch::Tensor>& z,
                         const std::vector<bool>& fixed = {});
 
+  // Training on nested latents (NestedLatents: z[p] depends on the codes of parts 0..p only), the
+  // same futures as forward(history, z) with less arithmetic: part p runs once per distinct input,
+  // Bh * per_part[0] * ... * per_part[p] rows instead of Bh * K, and its output is repeated for
+  // the later parts' samples (the gradient sums the repeats). Batch statistics are unchanged
+  // (every row is repeated equally often). With dropout the repeats would draw different masks:
+  // then it runs forward(history, z). Throws if z is not nested as per_part says.
+  torch::Tensor ForwardNested(const torch::Tensor& history, const std::vector<torch::Tensor>& z,
+                              const std::vector<int64_t>& per_part);
+
   const GeneratorOptions& options() const { return options_; }
   int64_t num_parts() const { return static_cast<int64_t>(parts_.size()); }
   const std::vector<std::vector<int64_t>>& part_nodes() const { return part_nodes_; }

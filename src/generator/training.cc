@@ -119,7 +119,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         }
       }
       const auto z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);
-      LossBatch batch{net->forward(truth.slice(1, 0, data.t_his), z), truth, pseudo, mask,
+      LossBatch batch{net->ForwardNested(truth.slice(1, 0, data.t_his), z, t.samples_per_part), truth, pseudo, mask,
                       t.samples_per_part, plan.nodes, node_parents, data.t_his};
       const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
       const LossTerms terms = ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);

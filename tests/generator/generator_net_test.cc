@@ -2,6 +2,7 @@
 
 #include "core/dct.h"
 #include "generator/generator_net.h"
+#include "generator/latents.h"
 #include "torch_util/threads.h"
 
 using namespace motionfork;
@@ -160,4 +161,44 @@ TEST_CASE("generator in eval mode gives the same futures through fused and plain
   }
   plain = net->forward(h, z).detach();  // grad mode on: the unfused path
   CHECK(torch::allclose(fused, plain, 1e-5, 1e-5));
+}
+
+TEST_CASE("nested training forward equals the full forward: futures, gradients, running statistics") {
+  PinThreads(1);
+  const std::vector<std::vector<int64_t>> three = {{0, 1}, {2, 3}, {4, 5}};
+  const std::vector<int64_t> per_part = {2, 3, 2};
+  torch::manual_seed(8);
+  GeneratorNet full(Tiny(), three), nested(Tiny(), three);
+  {
+    torch::NoGradGuard no_grad;
+    for (size_t i = 0; i < full->parameters().size(); ++i) nested->parameters()[i].copy_(full->parameters()[i]);
+  }
+  full->train();
+  nested->train();
+  at::Generator gen = MakeGenerator(3);
+  const torch::Tensor h = torch::randn({3, 5, 6, 3});
+  const auto z = NestedLatents(3, per_part, 3, gen);
+  const torch::Tensor weights = torch::randn({3 * 12, 15, 6, 3});  // a loss that weighs every sample
+  const torch::Tensor a = full->forward(h, z), b = nested->ForwardNested(h, z, per_part);
+  CHECK(torch::allclose(a, b, 1e-5, 1e-5));
+  (a * weights).sum().backward();
+  (b * weights).sum().backward();
+  // Tolerance: relative to the largest gradient of all (the convs' biases before a batch norm
+  // get gradients that are zero up to rounding, which the two orders of summation round apart).
+  double scale = 0;
+  for (const auto& p : full->parameters()) scale = std::max(scale, p.grad().abs().max().item<double>());
+  const auto named = full->named_parameters();
+  for (size_t i = 0; i < full->parameters().size(); ++i) {
+    INFO(named[i].key());
+    const torch::Tensor ga = full->parameters()[i].grad(), gb = nested->parameters()[i].grad();
+    REQUIRE(gb.defined());
+    CHECK(torch::allclose(ga, gb, 1e-4, 1e-5 * scale));
+  }
+  for (size_t i = 0; i < full->buffers().size(); ++i) {
+    CHECK(torch::allclose(full->buffers()[i], nested->buffers()[i], 1e-5, 1e-6));
+  }
+  // Latents that are not nested as per_part says are refused.
+  std::vector<torch::Tensor> flat = {torch::randn({36, 3}), z[1], z[2]};
+  CHECK_THROWS_WITH(nested->ForwardNested(h, flat, per_part), Catch::Contains("latent 0 is not nested"));
+  CHECK_THROWS_WITH(nested->ForwardNested(h, z, {2, 3}), Catch::Contains("expected 3 latents"));
 }
