@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "generator/group_distances.h"
 #include "generator/pose_errors.h"
 
 namespace motionfork {
@@ -38,19 +39,16 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
       before *= n;
       continue;
     }
-    // The futures of the samples that differ only in this part's latent (the later parts' first
-    // latent), this part's nodes: [Bh * before, n, frames * nodes * 3].
-    std::vector<int64_t> rows;
-    rows.reserve(Bh * before * n);
+    // The samples that differ only in this part's latent (the later parts' first latent), this
+    // part's nodes, future frames: Bh * before groups of n.
+    std::vector<std::vector<int64_t>> rows;
+    rows.reserve(Bh * before);
     for (int64_t h = 0; h < Bh; ++h)
-      for (int64_t e = 0; e < before; ++e)
-        for (int64_t i = 0; i < n; ++i) rows.push_back(h * K + (e * n + i) * after);
-    const torch::Tensor nodes = torch::tensor(b.part_nodes[p], torch::kLong);
-    const torch::Tensor x = b.pred.index_select(0, torch::tensor(rows))
-                                .slice(1, b.t_his)
-                                .index_select(2, nodes)
-                                .reshape({Bh * before, n, -1});
-    const torch::Tensor d = torch::cdist(x, x, 1.0);  // [G, n, n]
+      for (int64_t e = 0; e < before; ++e) {
+        rows.emplace_back();
+        for (int64_t i = 0; i < n; ++i) rows.back().push_back(h * K + (e * n + i) * after);
+      }
+    const torch::Tensor d = GroupL1Distances(b.pred, rows, b.part_nodes[p], b.t_his);  // [G, n, n]
     const torch::Tensor upper = torch::triu(torch::ones({n, n}, torch::kBool), 1);
     const torch::Tensor pairs = d.masked_select(upper.unsqueeze(0).expand_as(d));
     add("diversity_" + std::to_string(p), torch::exp(-pairs / w.diversity_scale[p]).mean(), w.diversity[p]);

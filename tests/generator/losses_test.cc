@@ -68,6 +68,7 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
   torch::Tensor pred0 = torch::randn({Bh * K, T, N, 3}) * 0.3;
   pred0[0][2][3].zero_();  // a zero-length bone from node 2 (hangs from the origin) ...
   pred0[1][5][4] = pred0[1][5][3].clone();  // ... and one between nodes 3 and 4: no NaN gradient
+  pred0[3][6] = pred0[0][6].clone();  // samples 0 and 3 (part 0's diversity pair) equal in frame 6
   LossBatch b = SmallBatch(T);
   const LossWeights w = UnitDiversity();
   torch::Tensor prior_frames;
@@ -106,11 +107,29 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
     CHECK(torch::isfinite(g_got).all().item<bool>());
     CHECK(torch::allclose(g_got, g_want, 1e-4, 1e-6));
   }
-  // Diversity of part 0 (samples 0..1 of the first latent, with part 1's first latent) and part 1.
-  const torch::Tensor f7 = future.reshape({Bh, 1, 2, 3, T - t_his, N, 3});
-  const torch::Tensor x0 = f7.select(3, 0).index_select(4, torch::tensor(std::vector<int64_t>{0, 1})).reshape({Bh, 2, -1});
-  const torch::Tensor d0 = torch::cdist(x0, x0, 1.0);
-  CHECK(torch::allclose(Term(terms, "diversity_0"), torch::exp(-d0.select(2, 1).select(1, 0)).mean(), 1e-5, 1e-6));
+  // Diversity, both parts: exp(-L1 distance) over the pairs of samples that differ only in the
+  // part's latent, the part's nodes, future frames (cdist, as GSPS's pdist). Part 0's groups are
+  // samples {0, 3} and {6, 9} (part 1's first latent), part 1's {0, 1, 2}, {3, 4, 5}, ...
+  const torch::Tensor f7 = future.reshape({Bh, 2, 3, T - t_his, N, 3});
+  const torch::Tensor x0 = f7.select(2, 0).index_select(3, torch::tensor(std::vector<int64_t>{0, 1})).reshape({Bh, 2, -1});
+  const torch::Tensor x1 = f7.index_select(4, torch::tensor(std::vector<int64_t>{2, 3, 4})).reshape({Bh * 2, 3, -1});
+  auto diversity = [](const torch::Tensor& x) {
+    const int64_t n = x.size(1);
+    const torch::Tensor d = torch::cdist(x, x, 1.0);
+    const torch::Tensor upper = torch::triu(torch::ones({n, n}, torch::kBool), 1);
+    return torch::exp(-d.masked_select(upper.unsqueeze(0).expand_as(d))).mean();
+  };
+  const std::vector<std::pair<std::string, torch::Tensor>> diversities = {{"diversity_0", diversity(x0)},
+                                                                          {"diversity_1", diversity(x1)}};
+  for (const auto& [name, want] : diversities) {
+    INFO(name);
+    const torch::Tensor got = Term(terms, name);
+    CHECK(torch::allclose(got, want, 1e-5, 1e-7));
+    const torch::Tensor g_got = torch::autograd::grad({got}, {pred}, {}, /*retain_graph=*/true)[0];
+    const torch::Tensor g_want = torch::autograd::grad({want}, {r_pred}, {}, /*retain_graph=*/true)[0];
+    CHECK(g_got.abs().sum().item<double>() > 0);
+    CHECK(torch::allclose(g_got, g_want, 1e-4, 1e-7));
+  }
   REQUIRE(prior_frames.defined());
   CHECK(torch::equal(prior_frames, r_frames));
 }
