@@ -8,6 +8,7 @@
 #include "generator/batch_norm_kernels.h"
 #include "generator/fast_tanh.h"
 #include "generator/gcn_kernels.h"
+#include "generator/node_mix_kernels.h"
 
 namespace motionfork {
 
@@ -129,7 +130,44 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
   }
 };
 
+// y = A x on node-major [N, C] views, columns split over the threads.
+torch::Tensor MixNodes(const torch::Tensor& a, const torch::Tensor& x) {
+  const int64_t N = x.size(0), C = x.numel() / N;
+  torch::Tensor y = torch::empty_like(x);
+  const float *pa = a.data_ptr<float>(), *px = x.data_ptr<float>();
+  float* py = y.data_ptr<float>();
+  at::parallel_for(0, C, 4096, [&](int64_t j0, int64_t j1) { kernels::NodeMix(pa, N, px, C, j0, j1, py); });
+  return y;
+}
+
+class NodeMixFn : public torch::autograd::Function<NodeMixFn> {
+ public:
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& a_in, const torch::Tensor& x_in) {
+    const torch::Tensor a = a_in.contiguous(), x = x_in.contiguous();
+    ctx->save_for_backward({a, x});
+    return MixNodes(a, x);
+  }
+  static variable_list backward(AutogradContext* ctx, variable_list grad) {
+    const auto saved = ctx->get_saved_variables();
+    const torch::Tensor &a = saved[0], &x = saved[1], g = grad[0].contiguous();
+    const int64_t N = x.size(0);
+    // dA = G X^T: a reduction over all columns, which the matrix product does as fast as a
+    // hand-written loop here (it reads both operands once).
+    torch::Tensor ga, gx;
+    if (ctx->needs_input_grad(0)) ga = g.view({N, -1}).mm(x.view({N, -1}).t());
+    if (ctx->needs_input_grad(1)) gx = MixNodes(a.t().contiguous(), g);
+    return {ga, gx};
+  }
+};
+
 }  // namespace
+
+torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x) {
+  if (!UseAvx512() || x.scalar_type() != torch::kFloat) {
+    return adjacency.mm(x.reshape({x.size(0), -1})).view(x.sizes());
+  }
+  return NodeMixFn::apply(adjacency, x);
+}
 
 void UsePortableKernelsForTesting(bool on) { force_portable = on; }
 

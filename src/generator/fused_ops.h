@@ -21,6 +21,10 @@ torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
                             torch::Tensor* var, const torch::Tensor& bias = {});
 
+// A x for node-major x [N, ...] (the graph convolution's node mix, N x N adjacency): one pass
+// over x with the AVX-512 kernel (node_mix_kernels.h), else a matrix product; differentiable.
+torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x);
+
 // Tests: run the portable code even on a CPU with AVX-512 (batch_norm_kernels.h), or not.
 void UsePortableKernelsForTesting(bool on);
 

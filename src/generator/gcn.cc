@@ -28,7 +28,7 @@ torch::Tensor GraphConvImpl::Mix(const torch::Tensor& x, const torch::Tensor& z)
   torch::Tensor support = x.reshape({N * B, x.size(2)}).mm(weight).view({N, B, out});
   // In place: the product's backward pass does not need its result.
   if (z.defined()) support.add_(z.mm(shared_weight).unsqueeze(0));
-  return adjacency.mm(support.reshape({N, B * out})).view({N, B, out});
+  return NodeMix(adjacency, support);
 }
 
 NodeBatchNormImpl::NodeBatchNormImpl(int64_t nodes, int64_t features, double momentum_, double eps_)

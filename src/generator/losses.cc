@@ -62,9 +62,12 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
     // [Bh, M, K]: every pseudo future against every sample, as |p|^2 + |f|^2 - 2 p.f (one batched
     // matrix product): the direct difference would be a [Bh, M, K, t_pred, N, 3] tensor (300 MB
     // at GSPS's sizes, kept for the backward pass), and took most of the step's loss time.
-    const torch::Tensor f = pred.slice(2, b.t_his).reshape({Bh, K, D}), p = b.pseudo.reshape({Bh, M, D});
+    // The pseudo futures padded with zeros over the history's frames meet the whole predictions,
+    // which need no copy (a slice of their future frames would) and get their gradient in one piece.
+    const torch::Tensor p = b.pseudo.reshape({Bh, M, D});
+    const torch::Tensor padded = torch::cat({torch::zeros({Bh, M, b.t_his * N * 3}), p}, 2);
     const torch::Tensor err = (p.pow(2).sum(-1).unsqueeze(2) + errors.future_norm.unsqueeze(1) -
-                               2 * torch::bmm(p, f.transpose(1, 2)))
+                               2 * torch::bmm(padded, pred.view({Bh, K, T * N * 3}).transpose(1, 2)))
                                   .clamp_min(0);
     const torch::Tensor best = std::get<0>(err.min(2));  // [Bh, M]
     add("multimodal", (best * b.pseudo_mask).sum() / b.pseudo_mask.sum(), w.multimodal);

@@ -145,6 +145,29 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
   CHECK(torch::allclose(ScaleShiftTanh(x0, s, sh), torch::tanh(x0 * s + sh), 1e-6, 1e-6));
 }
 
+TEST_CASE("node mix kernel matches the matrix product, values and gradients") {
+  torch::manual_seed(9);
+  // Columns below, at and across the kernel's 64-column steps (and over several threads' ranges).
+  const std::vector<int64_t> shape = GENERATE(std::vector<int64_t>{3, 1, 7}, std::vector<int64_t>{16, 4, 16},
+                                              std::vector<int64_t>{5, 300, 33});
+  const bool portable = GENERATE(false, true);
+  INFO("portable " << portable << ", shape " << c10::str(shape));
+  UsePortableKernelsForTesting(portable);
+  const int64_t N = shape[0];
+  const torch::Tensor a0 = torch::randn({N, N}), x0 = torch::randn(shape);
+  const torch::Tensor w = torch::randn(shape);  // weighs each output
+  torch::Tensor a = a0.clone().requires_grad_(true), x = x0.clone().requires_grad_(true);
+  const torch::Tensor y = NodeMix(a, x);
+  (y * w).sum().backward();
+  torch::Tensor ra = a0.clone().requires_grad_(true), rx = x0.clone().requires_grad_(true);
+  const torch::Tensor r = ra.mm(rx.view({N, -1})).view(shape);
+  (r * w).sum().backward();
+  UsePortableKernelsForTesting(false);
+  CHECK(torch::allclose(y, r, 1e-5, 1e-5));
+  CHECK(torch::allclose(a.grad(), ra.grad(), 1e-4, 1e-4));
+  CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-5));
+}
+
 TEST_CASE("generator in eval mode gives the same futures through fused and plain paths") {
   torch::manual_seed(6);
   GeneratorNet net(Tiny(), TwoParts());

@@ -1,0 +1,17 @@
+// AVX-512 kernel for the graph convolution's node mix in training: Y = A S with a small dense
+// adjacency A [N, N] and node-major S [N, C] (C = samples x features, 409,600 at the issue's
+// sizes). A general matrix product packs S into panels and clears Y before accumulating (three
+// extra passes over 26 MB); this reads S once and writes Y once, 64 columns of all N rows at a time
+// (N x 256 bytes, L1-resident). No LibTorch; the caller (fused_ops.cc) falls back to a matrix
+// product when kernels::Available() is false.
+#pragma once
+
+#include <cstdint>
+
+namespace motionfork::kernels {
+
+// y[n, j] = sum_m a[n, m] s[m, j] for columns j0 <= j < j1; a [N, N] row-major, s and y [N, ld]
+// row-major (y may not alias s).
+void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1, float* y);
+
+}  // namespace motionfork::kernels
