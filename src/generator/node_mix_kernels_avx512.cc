@@ -9,26 +9,68 @@
 
 namespace motionfork::kernels {
 
-void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1, float* y) {
-  constexpr int64_t kWidth = 64;  // four registers per output row
-  for (int64_t j = j0; j < j1; j += kWidth) {
-    // Lanes past j1 are masked: loads give zeros, stores do nothing.
-    __mmask16 mask[4];
-    for (int v = 0; v < 4; ++v) {
-      const int64_t left = std::clamp<int64_t>(j1 - (j + 16 * v), 0, 16);
-      mask[v] = static_cast<__mmask16>((1u << left) - 1);
+namespace {
+
+constexpr int64_t kWidth = 64;  // columns per step: four registers per row
+
+// The lanes of the four registers at column j that are below j1: loads give zeros past it,
+// stores do nothing.
+void Masks(int64_t j, int64_t j1, __mmask16 mask[4]) {
+  for (int v = 0; v < 4; ++v) {
+    const int64_t left = std::clamp<int64_t>(j1 - (j + 16 * v), 0, 16);
+    mask[v] = static_cast<__mmask16>((1u << left) - 1);
+  }
+}
+
+// y[n, j..j+63] = sum_m a[n, m] s[m, j..j+63] for every n.
+inline void MixStep(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j, const __mmask16 mask[4],
+                    float* y) {
+  for (int64_t n = 0; n < nodes; ++n) {
+    __m512 acc[4] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+    for (int64_t m = 0; m < nodes; ++m) {
+      const __m512 w = _mm512_set1_ps(a[n * nodes + m]);
+      const float* row = s + m * ld + j;
+      for (int v = 0; v < 4; ++v) acc[v] = _mm512_fmadd_ps(w, _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc[v]);
     }
+    float* out = y + n * ld + j;
+    for (int v = 0; v < 4; ++v) _mm512_mask_storeu_ps(out + 16 * v, mask[v], acc[v]);
+  }
+}
+
+}  // namespace
+
+void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1, float* y) {
+  __mmask16 mask[4];
+  for (int64_t j = j0; j < j1; j += kWidth) {
+    Masks(j, j1, mask);
+    MixStep(a, nodes, s, ld, j, mask, y);
+  }
+}
+
+void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float* s, int64_t ld, int64_t j0,
+                     int64_t j1, float* gs, float* ga) {
+  // dA's sums as one register of partial sums per (n, m), kept in memory (N x N x 64 bytes:
+  // 16 KB at N = 16, L1-resident).
+  const int64_t pairs = nodes * nodes;
+  __m512* part = static_cast<__m512*>(_mm_malloc(pairs * sizeof(__m512), 64));
+  for (int64_t i = 0; i < pairs; ++i) part[i] = _mm512_setzero_ps();
+  __mmask16 mask[4];
+  for (int64_t j = j0; j < j1; j += kWidth) {
+    Masks(j, j1, mask);
+    MixStep(at, nodes, g, ld, j, mask, gs);  // leaves the step's rows of g in L1 for dA
     for (int64_t n = 0; n < nodes; ++n) {
-      __m512 acc[4] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+      __m512 gn[4];
+      for (int v = 0; v < 4; ++v) gn[v] = _mm512_maskz_loadu_ps(mask[v], g + n * ld + j + 16 * v);
       for (int64_t m = 0; m < nodes; ++m) {
-        const __m512 w = _mm512_set1_ps(a[n * nodes + m]);
         const float* row = s + m * ld + j;
-        for (int v = 0; v < 4; ++v) acc[v] = _mm512_fmadd_ps(w, _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc[v]);
+        __m512 acc = part[n * nodes + m];
+        for (int v = 0; v < 4; ++v) acc = _mm512_fmadd_ps(gn[v], _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc);
+        part[n * nodes + m] = acc;
       }
-      float* out = y + n * ld + j;
-      for (int v = 0; v < 4; ++v) _mm512_mask_storeu_ps(out + 16 * v, mask[v], acc[v]);
     }
   }
+  for (int64_t i = 0; i < pairs; ++i) ga[i] += _mm512_reduce_add_ps(part[i]);
+  _mm_free(part);
 }
 
 }  // namespace motionfork::kernels
