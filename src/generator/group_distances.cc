@@ -14,7 +14,8 @@ namespace {
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
 
-// Where one group's values live in pred, and a buffer for them, contiguous: [n, D].
+// Where the compared values live in pred: frames t_from..T-1, the listed nodes, three axes. A
+// group's copy of them is contiguous, [n, width()].
 struct Layout {
   int64_t T, N, t_from;
   std::vector<int64_t> nodes;
