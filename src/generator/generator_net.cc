@@ -108,7 +108,10 @@ torch::Tensor GeneratorNetImpl::ForwardNested(const torch::Tensor& history, cons
   if (options_.dropout > 0 && is_training()) return forward(history, z);
   const int64_t Bh = history.size(0);
   int64_t K = 1;
-  for (int64_t n : per_part) K *= n;
+  for (int64_t n : per_part) {
+    if (n < 1) throw std::invalid_argument("generator: samples per part must be >= 1, got " + std::to_string(n));
+    K *= n;
+  }
   if (per_part.size() != parts_.size() || z.size() != parts_.size()) {
     throw std::invalid_argument("generator: expected " + std::to_string(parts_.size()) +
                                 " latents and sample counts (one per part), got " + std::to_string(z.size()) +

@@ -224,4 +224,5 @@ TEST_CASE("nested training forward equals the full forward: futures, gradients, 
   std::vector<torch::Tensor> flat = {torch::randn({36, 3}), z[1], z[2]};
   CHECK_THROWS_WITH(nested->ForwardNested(h, flat, per_part), Catch::Contains("latent 0 is not nested"));
   CHECK_THROWS_WITH(nested->ForwardNested(h, z, {2, 3}), Catch::Contains("expected 3 latents"));
+  CHECK_THROWS_WITH(nested->ForwardNested(h, z, {2, 0, 2}), Catch::Contains("must be >= 1, got 0"));
 }
