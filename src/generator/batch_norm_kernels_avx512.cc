@@ -12,18 +12,13 @@
 namespace motionfork::kernels {
 namespace {
 
+#include "generator/mask_avx512.inc"
 #include "generator/tanh_avx512.inc"
 
 constexpr int kBlockVectors = 4;
 constexpr int64_t kBlockColumns = 16 * kBlockVectors;
 constexpr int64_t kAhead = 8;  // rows prefetched ahead in the backward pass's first sweep
 
-// The lanes of the 16 columns starting at h that are below h1.
-inline __mmask16 Mask(int64_t h, int64_t h1) {
-  const int64_t remaining = h1 - h;
-  if (remaining <= 0) return 0;
-  return remaining >= 16 ? static_cast<__mmask16>(0xFFFF) : static_cast<__mmask16>((1u << remaining) - 1);
-}
 
 inline __m512 Load(const float* p, __mmask16 m) { return _mm512_maskz_loadu_ps(m, p); }
 inline void Store(float* p, __mmask16 m, __m512 v) { _mm512_mask_storeu_ps(p, m, v); }

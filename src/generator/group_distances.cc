@@ -127,27 +127,28 @@ class GroupL1Fn : public torch::autograd::Function<GroupL1Fn> {
 
 }  // namespace
 
-torch::Tensor GroupL1Distances(const torch::Tensor& pred, const std::vector<std::vector<int64_t>>& rows,
+torch::Tensor GroupL1Distances(const torch::Tensor& pred, const torch::Tensor& rows_in,
                                const std::vector<int64_t>& nodes, int64_t t_from) {
   if (pred.dim() != 4 || pred.size(3) != 3 || pred.scalar_type() != torch::kFloat) {
     throw std::invalid_argument("group distances: expected float predictions [B, T, N, 3], got " +
                                 c10::str(pred.sizes()));
   }
   const int64_t B = pred.size(0), T = pred.size(1), N = pred.size(2);
-  if (rows.empty() || rows[0].empty() || t_from < 0 || t_from >= T || nodes.empty()) {
-    throw std::invalid_argument("group distances: expected >= 1 group, >= 1 node and a first frame in 0.." +
-                                std::to_string(T - 1) + ", got t_from " + std::to_string(t_from));
+  if (rows_in.dim() != 2 || rows_in.numel() == 0 || rows_in.scalar_type() != torch::kLong || t_from < 0 ||
+      t_from >= T || nodes.empty()) {
+    throw std::invalid_argument("group distances: expected int64 sample indices [G, n] (not empty), >= 1 node "
+                                "and a first frame in 0.." + std::to_string(T - 1) + ", got " +
+                                c10::str(rows_in.sizes()) + " and t_from " + std::to_string(t_from));
   }
+  const torch::Tensor rows = rows_in.contiguous();
   std::vector<char> seen(static_cast<size_t>(B), 0);
-  for (const auto& group : rows) {
-    if (group.size() != rows[0].size()) throw std::invalid_argument("group distances: groups differ in size");
-    for (int64_t r : group) {
-      if (r < 0 || r >= B || seen[r]) {
-        throw std::invalid_argument("group distances: sample " + std::to_string(r) +
-                                    " out of 0.." + std::to_string(B - 1) + " or in two groups");
-      }
-      seen[r] = 1;
+  const int64_t* r = rows.data_ptr<int64_t>();
+  for (int64_t i = 0; i < rows.numel(); ++i) {
+    if (r[i] < 0 || r[i] >= B || seen[r[i]]) {
+      throw std::invalid_argument("group distances: sample " + std::to_string(r[i]) + " out of 0.." +
+                                  std::to_string(B - 1) + " or in two groups");
     }
+    seen[r[i]] = 1;
   }
   for (int64_t node : nodes) {
     if (node < 0 || node >= N) {
@@ -155,10 +156,7 @@ torch::Tensor GroupL1Distances(const torch::Tensor& pred, const std::vector<std:
                                   std::to_string(N - 1));
     }
   }
-  torch::Tensor flat = torch::empty({static_cast<int64_t>(rows.size()), static_cast<int64_t>(rows[0].size())}, torch::kLong);
-  int64_t* f = flat.data_ptr<int64_t>();
-  for (const auto& group : rows) f = std::copy(group.begin(), group.end(), f);
-  return GroupL1Fn::apply(pred, flat, Layout{T, N, t_from, nodes});
+  return GroupL1Fn::apply(pred, rows, Layout{T, N, t_from, nodes});
 }
 
 }  // namespace motionfork

@@ -41,13 +41,11 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
     }
     // The samples that differ only in this part's latent (the later parts' first latent), this
     // part's nodes, future frames: Bh * before groups of n.
-    std::vector<std::vector<int64_t>> rows;
-    rows.reserve(Bh * before);
+    torch::Tensor rows = torch::empty({Bh * before, n}, torch::kLong);
+    int64_t* r = rows.data_ptr<int64_t>();
     for (int64_t h = 0; h < Bh; ++h)
-      for (int64_t e = 0; e < before; ++e) {
-        rows.emplace_back();
-        for (int64_t i = 0; i < n; ++i) rows.back().push_back(h * K + (e * n + i) * after);
-      }
+      for (int64_t e = 0; e < before; ++e)
+        for (int64_t i = 0; i < n; ++i) *r++ = h * K + (e * n + i) * after;
     const torch::Tensor d = GroupL1Distances(b.pred, rows, b.part_nodes[p], b.t_his);  // [G, n, n]
     const torch::Tensor upper = torch::triu(torch::ones({n, n}, torch::kBool), 1);
     const torch::Tensor pairs = d.masked_select(upper.unsqueeze(0).expand_as(d));

@@ -2,7 +2,6 @@
 // kernels::Available()).
 #include <immintrin.h>
 
-#include <algorithm>
 #include <cstdint>
 
 #include "generator/node_mix_kernels.h"
@@ -13,13 +12,11 @@ namespace {
 
 constexpr int64_t kWidth = 64;  // columns per step: four registers per row
 
-// The lanes of the four registers at column j that are below j1: loads give zeros past it,
-// stores do nothing.
+#include "generator/mask_avx512.inc"
+
+// The masks of the four registers at column j (lanes at or past j1 masked off).
 void Masks(int64_t j, int64_t j1, __mmask16 mask[4]) {
-  for (int v = 0; v < 4; ++v) {
-    const int64_t left = std::clamp<int64_t>(j1 - (j + 16 * v), 0, 16);
-    mask[v] = static_cast<__mmask16>((1u << left) - 1);
-  }
+  for (int v = 0; v < 4; ++v) mask[v] = Mask(j + 16 * v, j1);
 }
 
 // y[n, j..j+63] = sum_m a[n, m] s[m, j..j+63] for every n.
