@@ -130,23 +130,37 @@ TEST_CASE("fast generator gives the LibTorch network's futures") {
 
 TEST_CASE("fast generator: a sample's future does not depend on its batch") {
   if (!KernelsOrSkip()) return;
-  torch::manual_seed(8);
-  const GeneratorOptions o = Sizes(20, 48, 8, true);
-  GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, {10, 11, 12, 13, 14, 15, 16, 17, 18, 19}});
-  RandomiseNorms(*net);
-  net->eval();
-  const FastGenerator fast(*net);
-  const torch::Tensor h = torch::randn({3, o.t_his, o.num_nodes, 3});
-  const torch::Tensor z0 = torch::randn({3 * 4, o.nz}), z1 = torch::randn({3 * 4, o.nz});
-  const int64_t per_sample = int64_t(o.t_pred) * o.num_nodes * 3;
-  std::vector<float> all(3 * 4 * per_sample), one(4 * per_sample);
-  fast.Predict(h.data_ptr<float>(), 3, 4, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, all.data());
-  // History 2 alone gives bit-identical futures.
-  const torch::Tensor h2 = h.slice(0, 2).contiguous();
-  const torch::Tensor z02 = z0.slice(0, 8).contiguous(), z12 = z1.slice(0, 8).contiguous();
-  fast.Predict(h2.data_ptr<float>(), 1, 4, {z02.data_ptr<float>(), z12.data_ptr<float>()}, {}, one.data());
-  CHECK(std::equal(one.begin(), one.end(), all.begin() + 8 * per_sample));
-  // A wrong number of latents is refused.
-  CHECK_THROWS_WITH(fast.Predict(h.data_ptr<float>(), 3, 4, {z0.data_ptr<float>()}, {}, all.data()),
-                    Catch::Contains("expected 2 latents"));
+  // Small sizes, and H36M's hidden width with 2 and 50 samples (the products take other code
+  // paths in the BLAS for few rows).
+  struct Case {
+    GeneratorOptions o;
+    int64_t k;
+  };
+  GeneratorOptions wide = Sizes(16, 256, 10, true);
+  wide.nz = 64;
+  for (const Case& c : {Case{Sizes(20, 48, 8, true), 4}, Case{wide, 2}, Case{wide, 50}}) {
+    const GeneratorOptions& o = c.o;
+    const int64_t k = c.k, half = o.num_nodes / 2;
+    std::vector<int64_t> first(half), second(o.num_nodes - half);
+    for (int64_t n = 0; n < o.num_nodes; ++n) (n < half ? first[n] : second[n - half]) = n;
+    torch::manual_seed(8);
+    GeneratorNet net(o, std::vector<std::vector<int64_t>>{first, second});
+    RandomiseNorms(*net);
+    net->eval();
+    const FastGenerator fast(*net);
+    const torch::Tensor h = torch::randn({3, o.t_his, o.num_nodes, 3});
+    const torch::Tensor z0 = torch::randn({3 * k, o.nz}), z1 = torch::randn({3 * k, o.nz});
+    const int64_t per_sample = int64_t(o.t_pred) * o.num_nodes * 3;
+    std::vector<float> all(3 * k * per_sample), one(k * per_sample);
+    fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, all.data());
+    // History 2 alone gives bit-identical futures.
+    const torch::Tensor h2 = h.slice(0, 2).contiguous();
+    const torch::Tensor z02 = z0.slice(0, 2 * k).contiguous(), z12 = z1.slice(0, 2 * k).contiguous();
+    fast.Predict(h2.data_ptr<float>(), 1, k, {z02.data_ptr<float>(), z12.data_ptr<float>()}, {}, one.data());
+    INFO("hidden " << o.hidden << ", k " << k);
+    CHECK(std::equal(one.begin(), one.end(), all.begin() + 2 * k * per_sample));
+    // A wrong number of latents is refused.
+    CHECK_THROWS_WITH(fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>()}, {}, all.data()),
+                      Catch::Contains("expected 2 latents"));
+  }
 }
