@@ -170,7 +170,42 @@ class NodeMixFn : public torch::autograd::Function<NodeMixFn> {
   }
 };
 
+// x [M, K] w [K, H] with kernels::MatMul, rows split over the threads (LibTorch's mm unless H is
+// a multiple of 16: the kernel writes rows padded to one).
+torch::Tensor PanelProduct(const torch::Tensor& x_in, const torch::Tensor& w_in) {
+  if (!UseAvx512() || w_in.size(1) % 16 != 0 || x_in.scalar_type() != torch::kFloat) return x_in.mm(w_in);
+  const torch::Tensor x = x_in.contiguous(), w = w_in.contiguous();
+  const int64_t M = x.size(0), K = x.size(1), H = w.size(1);
+  const kernels::PackedWeight packed = kernels::PackWeight(w.data_ptr<float>(), K, H);
+  torch::Tensor z = torch::empty({M, H});
+  const float* px = x.data_ptr<float>();
+  float* pz = z.data_ptr<float>();
+  at::parallel_for(0, M, 768, [&](int64_t r0, int64_t r1) {
+    kernels::MatMul(px + r0 * K, r1 - r0, K, packed, pz + r0 * H);
+  });
+  return z;
+}
+
+class WeightProductFn : public torch::autograd::Function<WeightProductFn> {
+ public:
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& x, const torch::Tensor& w) {
+    ctx->save_for_backward({x, w});
+    return PanelProduct(x, w);
+  }
+  static variable_list backward(AutogradContext* ctx, variable_list grad) {
+    const auto saved = ctx->get_saved_variables();
+    const torch::Tensor &x = saved[0], &w = saved[1], g = grad[0].contiguous();
+    return {ctx->needs_input_grad(0) ? PanelProduct(g, w.t()) : torch::Tensor(),
+            ctx->needs_input_grad(1) ? x.t().mm(g) : torch::Tensor()};
+  }
+};
+
 }  // namespace
+
+torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w) {
+  if (!UseAvx512() || x.scalar_type() != torch::kFloat) return x.mm(w);
+  return WeightProductFn::apply(x, w);
+}
 
 torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x) {
   if (!UseAvx512() || x.scalar_type() != torch::kFloat) {

@@ -4,6 +4,7 @@
 // sample's rows are still in the core's cache.
 //
 // Layout: sample-major [B, N, F]: sample b's N node rows are contiguous (row n at (b * N + n) * F).
+// MatMul also serves training's products x W and g W^T (fused_ops.h, WeightProduct).
 // Every function requires a CPU with AVX-512 (Available()); callers fall back to LibTorch when not.
 #pragma once
 
@@ -26,7 +27,7 @@ struct AlignedFloats {
 
 // W [K, H] row-major, packed for the kernels: H padded with zeros to a multiple of 16 (`padded`),
 // cut into panels of kPanelColumns columns (the last one narrower), each stored [K][width].
-constexpr int64_t kPanelColumns = 48;
+constexpr int64_t kPanelColumns = 32;
 struct PackedWeight {
   int64_t rows = 0, cols = 0, padded = 0;
   AlignedFloats data;
@@ -35,6 +36,7 @@ struct PackedWeight {
 PackedWeight PackWeight(const float* w, int64_t rows, int64_t cols);
 
 // Z [M, padded] = X [M, K] W; row m of X at x + m * ldx. z is 64-byte aligned, row stride padded.
+// Each row is one sequence of multiply-adds over K: it does not depend on M or the rows around it.
 void MatMul(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float* z);
 
 // What turns the product rows Z of one sample into the layer's output rows.

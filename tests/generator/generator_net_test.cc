@@ -168,6 +168,32 @@ TEST_CASE("node mix kernel matches the matrix product, values and gradients") {
   CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-5));
 }
 
+TEST_CASE("weight product kernel matches the matrix product, values and gradients") {
+  torch::manual_seed(10);
+  // Rows below, at and across the kernel's 8-row tiles and 96-row chunks; widths of whole
+  // 32-column panels, a 16-column tail, and ones the kernel leaves to LibTorch (not a multiple of 16).
+  const std::vector<int64_t> shape = GENERATE(std::vector<int64_t>{5, 16, 48}, std::vector<int64_t>{203, 64, 32},
+                                              std::vector<int64_t>{1000, 30, 256}, std::vector<int64_t>{17, 256, 30});
+  const bool portable = GENERATE(false, true);
+  INFO("portable " << portable << ", rows, in, out " << c10::str(shape));
+  UsePortableKernelsForTesting(portable);
+  const torch::Tensor x0 = torch::randn({shape[0], shape[1]}), w0 = torch::randn({shape[1], shape[2]});
+  const torch::Tensor weigh = torch::randn({shape[0], shape[2]});  // weighs each output
+  torch::Tensor x = x0.clone().requires_grad_(true), w = w0.clone().requires_grad_(true);
+  const torch::Tensor y = WeightProduct(x, w);
+  (y * weigh).sum().backward();
+  torch::Tensor rx = x0.clone().requires_grad_(true), rw = w0.clone().requires_grad_(true);
+  const torch::Tensor r = rx.mm(rw);
+  (r * weigh).sum().backward();
+  UsePortableKernelsForTesting(false);
+  CHECK(torch::allclose(y, r, 1e-5, 1e-4));
+  CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-4));
+  CHECK(torch::allclose(w.grad(), rw.grad(), 1e-5, 1e-4));
+  // A row's product does not depend on the rows around it (bit for bit).
+  torch::NoGradGuard no_grad;
+  CHECK(torch::equal(WeightProduct(x0.slice(0, 3, 4), w0), WeightProduct(x0, w0).slice(0, 3, 4)));
+}
+
 TEST_CASE("generator in eval mode gives the same futures through fused and plain paths") {
   torch::manual_seed(6);
   GeneratorNet net(Tiny(), TwoParts());
