@@ -170,10 +170,15 @@ class NodeMixFn : public torch::autograd::Function<NodeMixFn> {
   }
 };
 
-// x [M, K] w [K, H] with kernels::MatMul, rows split over the threads (LibTorch's mm unless H is
-// a multiple of 16: the kernel writes rows padded to one).
+// x [M, K] w [K, H] with kernels::MatMul, rows split over the threads. LibTorch's mm unless H is a
+// multiple of 16 (the kernel writes rows padded to one) and there are enough rows to pay for
+// packing W (training's products; inference's small ones stay with mm).
+constexpr int64_t kMinKernelRows = 4096;
 torch::Tensor PanelProduct(const torch::Tensor& x_in, const torch::Tensor& w_in) {
-  if (!UseAvx512() || w_in.size(1) % 16 != 0 || x_in.scalar_type() != torch::kFloat) return x_in.mm(w_in);
+  if (!UseAvx512() || w_in.size(1) % 16 != 0 || x_in.size(0) < kMinKernelRows ||
+      x_in.scalar_type() != torch::kFloat) {
+    return x_in.mm(w_in);
+  }
   const torch::Tensor x = x_in.contiguous(), w = w_in.contiguous();
   const int64_t M = x.size(0), K = x.size(1), H = w.size(1);
   const kernels::PackedWeight packed = kernels::PackWeight(w.data_ptr<float>(), K, H);
@@ -203,7 +208,7 @@ class WeightProductFn : public torch::autograd::Function<WeightProductFn> {
 }  // namespace
 
 torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w) {
-  if (!UseAvx512() || x.scalar_type() != torch::kFloat) return x.mm(w);
+  if (!UseAvx512() || x.size(0) < kMinKernelRows || x.scalar_type() != torch::kFloat) return x.mm(w);
   return WeightProductFn::apply(x, w);
 }
 

@@ -27,7 +27,8 @@ torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x);
 
 // x [M, K] times w [K, H] through the packed-panel kernel of gcn_kernels.h (rows split over the
 // threads); backward: dx = g w^T the same way, dw = x^T g by LibTorch's product (OpenBLAS).
-// LibTorch's product when H (or, for dx, K) is not a multiple of 16 or without AVX-512.
+// LibTorch's product when H (or, for dx, K) is not a multiple of 16, for fewer than 4,096 rows
+// (packing W would cost more than it saves) or without AVX-512.
 torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w);
 
 // Tests: run the portable code even on a CPU with AVX-512 (batch_norm_kernels.h), or not.

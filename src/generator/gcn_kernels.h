@@ -27,7 +27,7 @@ struct AlignedFloats {
 
 // W [K, H] row-major, packed for the kernels: H padded with zeros to a multiple of 16 (`padded`),
 // cut into panels of kPanelColumns columns (the last one narrower), each stored [K][width].
-constexpr int64_t kPanelColumns = 32;
+constexpr int64_t kPanelColumns = 48;
 struct PackedWeight {
   int64_t rows = 0, cols = 0, padded = 0;
   AlignedFloats data;
