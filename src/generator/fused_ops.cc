@@ -170,15 +170,14 @@ class NodeMixFn : public torch::autograd::Function<NodeMixFn> {
   }
 };
 
-// x [M, K] w [K, H] with kernels::MatMul, rows split over the threads. LibTorch's mm unless H is a
-// multiple of 16 (the kernel writes rows padded to one) and there are enough rows to pay for
-// packing W (training's products; inference's small ones stay with mm).
+// Fewer rows do not pay for packing W (inference's small products stay with LibTorch's mm).
 constexpr int64_t kMinKernelRows = 4096;
+
+// x [M, K] w [K, H] with kernels::MatMul, rows split over the threads; LibTorch's mm unless H is a
+// multiple of 16 (the kernel writes rows padded to one). The caller has checked the CPU, the type
+// and the rows (the same for x W and g W^T).
 torch::Tensor PanelProduct(const torch::Tensor& x_in, const torch::Tensor& w_in) {
-  if (!UseAvx512() || w_in.size(1) % 16 != 0 || x_in.size(0) < kMinKernelRows ||
-      x_in.scalar_type() != torch::kFloat) {
-    return x_in.mm(w_in);
-  }
+  if (w_in.size(1) % 16 != 0) return x_in.mm(w_in);
   const torch::Tensor x = x_in.contiguous(), w = w_in.contiguous();
   const int64_t M = x.size(0), K = x.size(1), H = w.size(1);
   const kernels::PackedWeight packed = kernels::PackWeight(w.data_ptr<float>(), K, H);

@@ -130,8 +130,8 @@ TEST_CASE("fast generator gives the LibTorch network's futures") {
 
 TEST_CASE("fast generator: a sample's future does not depend on its batch") {
   if (!KernelsOrSkip()) return;
-  // Small sizes, and H36M's hidden width with 2 and 50 samples (the products take other code
-  // paths in the BLAS for few rows).
+  // Small sizes, and H36M's hidden width with 2 and 50 samples (few rows take the products' tail
+  // tiles; 50 samples cross the 48-row product chunks).
   struct Case {
     GeneratorOptions o;
     int64_t k;
