@@ -17,6 +17,7 @@
 #include "config/training_options.h"
 #include "dataset/dataset.h"
 #include "generator/training.h"
+#include "io/file_util.h"
 #include "validity/pose_validator.h"
 
 namespace motionfork::app {
@@ -44,7 +45,8 @@ std::string ShortTermName(const std::string& name) {
 
 void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   const std::string config_dir = ConfigDir(g.config_dir);
-  GeneratorTrainConfig cfg = LoadGeneratorTrainConfig(ResolveConfigPath(config_dir, "models", o.config));
+  const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
+  GeneratorTrainConfig cfg = LoadGeneratorTrainConfig(config_path);
   if (o.epochs > 0) {
     cfg.training.epochs = o.epochs;
     cfg.training.lr_constant_epochs = std::min(cfg.training.lr_constant_epochs, o.epochs);
@@ -74,6 +76,8 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   model.info["config"] = cfg.name;
   model.info["seed"] = std::to_string(cfg.training.seed);
   model.info["epochs"] = std::to_string(cfg.training.epochs);
+  model.info["split"] = o.split_file.empty() ? "the protocol's (split file of the data folder)" : o.split_file;
+  model.info["training_config"] = "training.yaml";
 
   LossHooks hooks;
   std::shared_ptr<AnglePenalty> penalty;
@@ -111,6 +115,12 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     prior_dir = dir;
   }
   AttachToBundle(o.out, constraints_path, prior_dir);
+  // The whole recipe travels with the weights: the config file as read, and what the command line
+  // changed in it.
+  std::string header = "# The training config of this bundle: " + config_path + " as `motionfork train` read it.\n";
+  if (o.epochs > 0) header += "# --epochs " + std::to_string(o.epochs) + " on the command line replaced training.epochs.\n";
+  if (!o.split_file.empty()) header += "# --split " + o.split_file + " chose the training clips.\n";
+  WriteFileAtomically((std::filesystem::path(o.out) / "training.yaml").string(), header + ReadFileBytes(config_path));
   TrainCallbacks cb;
   std::unique_ptr<ProgressBar> bar;
   cb.step = [&](int epoch, double fraction, const std::vector<std::pair<std::string, double>>& terms) {
@@ -152,8 +162,8 @@ void AddTrainCommand(CLI::App& app, GlobalOptions& global) {
       "train",
       "Train a generator (configs/models/NAME.yaml) on a protocol's training split.\n"
       "Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and\n"
-      "OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; running the\n"
-      "same command again resumes where it stopped.");
+      "OUT/prior/ when the config names them; OUT/training.yaml, the config as read), a row of\n"
+      "OUT/log.csv and a checkpoint; running the same command again resumes where it stopped.");
   cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")->required();
   cmd->add_option("--data", o->data, "Data folder of the config's protocol")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out, "Output folder (bundle, log, checkpoint)")->required();
