@@ -15,6 +15,7 @@
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "config/training_options.h"
+#include "core/error.h"
 #include "dataset/dataset.h"
 #include "generator/training.h"
 #include "io/file_util.h"
@@ -43,6 +44,28 @@ std::string ShortTermName(const std::string& name) {
   return name;
 }
 
+// The whole recipe travels with the weights: OUT/training.yaml, the config file as read, after a
+// header saying what the command line changed. A folder started with another config is refused
+// (resuming it would mix two recipes in one model); --epochs may differ, to train longer.
+void RecordTrainingConfig(const TrainOptions& o, const std::string& config_path) {
+  const std::string body = ReadFileBytes(config_path);
+  const std::filesystem::path recorded = std::filesystem::path(o.out) / "training.yaml";
+  if (std::filesystem::is_regular_file(recorded)) {
+    const std::string before = ReadFileBytes(recorded.string());
+    if (before.size() < body.size() || before.compare(before.size() - body.size(), body.size(), body) != 0) {
+      throw FormatError(FormatMessage(recorded.string(), "",
+                                      "this folder was trained with another config than " + config_path +
+                                          " (expected the same file, to resume); train into a new --out, or "
+                                          "resume with the config recorded here"));
+    }
+  }
+  std::string header = "# The training config of this bundle: " + config_path + " as `motionfork train` read it.\n";
+  if (o.epochs > 0) header += "# --epochs " + std::to_string(o.epochs) + " on the command line replaced training.epochs.\n";
+  if (!o.split_file.empty()) header += "# --split " + o.split_file + " chose the training clips.\n";
+  std::filesystem::create_directories(o.out);
+  WriteFileAtomically(recorded.string(), header + body);
+}
+
 void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   const std::string config_dir = ConfigDir(g.config_dir);
   const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
@@ -51,6 +74,7 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     cfg.training.epochs = o.epochs;
     cfg.training.lr_constant_epochs = std::min(cfg.training.lr_constant_epochs, o.epochs);
   }
+  RecordTrainingConfig(o, config_path);  // before the data: a refused folder costs nothing
   const ProtocolOptions protocol = LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", cfg.protocol));
   const SkeletonConfig skeleton = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
   const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
@@ -115,12 +139,6 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     prior_dir = dir;
   }
   AttachToBundle(o.out, constraints_path, prior_dir);
-  // The whole recipe travels with the weights: the config file as read, and what the command line
-  // changed in it.
-  std::string header = "# The training config of this bundle: " + config_path + " as `motionfork train` read it.\n";
-  if (o.epochs > 0) header += "# --epochs " + std::to_string(o.epochs) + " on the command line replaced training.epochs.\n";
-  if (!o.split_file.empty()) header += "# --split " + o.split_file + " chose the training clips.\n";
-  WriteFileAtomically((std::filesystem::path(o.out) / "training.yaml").string(), header + ReadFileBytes(config_path));
   TrainCallbacks cb;
   std::unique_ptr<ProgressBar> bar;
   cb.step = [&](int epoch, double fraction, const std::vector<std::pair<std::string, double>>& terms) {

@@ -105,6 +105,15 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
   for (std::string line; std::getline(log, line);) rows += !line.empty();
   CHECK(rows == 3);  // header + two epochs
 
+  // Another config into the same folder is refused, naming the recorded one; nothing is trained.
+  std::string other = kTinyConfig;
+  other.replace(other.find("learning_rate: 0.001"), 20, "learning_rate: 0.002");
+  std::ofstream(dir.file("other.yaml")) << other;
+  r = Motionfork("-q train --config " + dir.file("other.yaml") + " --data " + data + " --out " + out + " --epochs 3");
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains(out + "/training.yaml") && Contains("another config than " + dir.file("other.yaml")));
+  CHECK_THAT(Slurp(out + "/training.yaml"), Contains("learning_rate: 0.001"));
+
   // The bundle predicts; without --split the protocol's own split is recorded.
   r = Motionfork("predict --model " + out + " --history " + data + "/walk_c.bvh -k 3 --seed 1 -o " +
                  dir.file("futures.npy"));
