@@ -44,26 +44,48 @@ std::string ShortTermName(const std::string& name) {
   return name;
 }
 
-// The whole recipe travels with the weights: OUT/training.yaml, the config file as read, after a
-// header saying what the command line changed. A folder started with another config is refused
-// (resuming it would mix two recipes in one model); --epochs may differ, to train longer.
+// The split a run trains on, as recorded: the split file's absolute path, or the protocol's own.
+std::string SplitName(const TrainOptions& o) {
+  return o.split_file.empty() ? "the protocol's own" : std::filesystem::absolute(o.split_file).string();
+}
+
+// The whole recipe travels with the weights: OUT/training.yaml holds a header (the config's path,
+// the split, what --epochs changed) and, after kConfigMark, the config file as read. A folder
+// that has trained epochs is refused for another config or split (resuming would mix two recipes
+// in one model); --epochs may differ, to train longer. Called before any data is read.
 void RecordTrainingConfig(const TrainOptions& o, const std::string& config_path) {
+  namespace fs = std::filesystem;
+  static const std::string kConfigMark = "# --- the config file as read ---\n";
   const std::string body = ReadFileBytes(config_path);
-  const std::filesystem::path recorded = std::filesystem::path(o.out) / "training.yaml";
-  if (std::filesystem::is_regular_file(recorded)) {
+  const std::string split_line = "# split: " + SplitName(o) + "\n";
+  const fs::path recorded = fs::path(o.out) / "training.yaml";
+  const bool trained = fs::is_regular_file(fs::path(o.out) / "checkpoint" / "state.pt");
+  if (trained && fs::is_regular_file(recorded)) {
     const std::string before = ReadFileBytes(recorded.string());
-    if (before.size() < body.size() || before.compare(before.size() - body.size(), body.size(), body) != 0) {
-      throw FormatError(FormatMessage(recorded.string(), "",
-                                      "this folder was trained with another config than " + config_path +
-                                          " (expected the same file, to resume); train into a new --out, or "
-                                          "resume with the config recorded here"));
+    const size_t mark = before.find(kConfigMark);
+    const bool same_config =
+        mark != std::string::npos && before.compare(mark + kConfigMark.size(), std::string::npos, body) == 0;
+    const size_t split_at = before.find(split_line);
+    if (!same_config || split_at == std::string::npos || split_at > mark) {
+      throw FormatError(FormatMessage(
+          recorded.string(), "",
+          std::string("this folder's epochs were trained with another ") + (same_config ? "split" : "config") +
+              " than now (" + (same_config ? SplitName(o) : config_path) +
+              "); resume with the config and split recorded here (--epochs may differ), or train into a new "
+              "--out"));
     }
   }
-  std::string header = "# The training config of this bundle: " + config_path + " as `motionfork train` read it.\n";
-  if (o.epochs > 0) header += "# --epochs " + std::to_string(o.epochs) + " on the command line replaced training.epochs.\n";
-  if (!o.split_file.empty()) header += "# --split " + o.split_file + " chose the training clips.\n";
-  std::filesystem::create_directories(o.out);
-  WriteFileAtomically(recorded.string(), header + body);
+  std::string header = "# The training config of this bundle: " + config_path + ", read by `motionfork train`.\n" +
+                       split_line;
+  if (o.epochs > 0) {
+    header += "# --epochs " + std::to_string(o.epochs) +
+              " on the command line replaced training.epochs (and capped lr_constant_epochs at it).\n";
+  }
+  if (trained && !fs::is_regular_file(recorded)) {
+    header += "# Recorded when resuming: the config of the earlier epochs was not recorded.\n";
+  }
+  fs::create_directories(o.out);
+  WriteFileAtomically(recorded.string(), header + kConfigMark + body);
 }
 
 void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
@@ -100,7 +122,7 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   model.info["config"] = cfg.name;
   model.info["seed"] = std::to_string(cfg.training.seed);
   model.info["epochs"] = std::to_string(cfg.training.epochs);
-  model.info["split"] = o.split_file.empty() ? "the protocol's (split file of the data folder)" : o.split_file;
+  model.info["split"] = SplitName(o);
   model.info["training_config"] = "training.yaml";
 
   LossHooks hooks;
@@ -180,8 +202,9 @@ void AddTrainCommand(CLI::App& app, GlobalOptions& global) {
       "train",
       "Train a generator (configs/models/NAME.yaml) on a protocol's training split.\n"
       "Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and\n"
-      "OUT/prior/ when the config names them; OUT/training.yaml, the config as read), a row of\n"
-      "OUT/log.csv and a checkpoint; running the same command again resumes where it stopped.");
+      "OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; OUT/training.yaml\n"
+      "records the config as read and the split. Running the same command again resumes where it\n"
+      "stopped (--epochs may change; another config or split is refused).");
   cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")->required();
   cmd->add_option("--data", o->data, "Data folder of the config's protocol")->required()->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out, "Output folder (bundle, log, checkpoint)")->required();

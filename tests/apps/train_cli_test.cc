@@ -75,7 +75,7 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
   }
   std::ofstream(data + "/split.tsv") << "train\twalk_a.bvh\ntrain\twalk_b.bvh\ntest\twalk_c.bvh\n";
   std::ofstream(dir.file("split_ab.tsv")) << "train\twalk_a.bvh\ntest\twalk_b.bvh\ntest\twalk_c.bvh\n";
-  std::ofstream(config) << kTinyConfig;
+  std::ofstream(config) << "# the test's config\n" << kTinyConfig;
 
   Run r = Motionfork("-q train --config " + config + " --data " + data + " --split " +
                      dir.file("split_ab.tsv") + " --out " + out + " --stop-after 1");
@@ -85,34 +85,53 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
     CHECK(fs::is_regular_file(fs::path(out) / f));
   }
   // The recipe and the clips it saw travel with the weights.
+  const std::string split_ab = dir.file("split_ab.tsv");
   const std::string recorded = Slurp(out + "/training.yaml");
-  CHECK_THAT(recorded, Contains(kTinyConfig));
-  CHECK_THAT(recorded, Contains("--split " + dir.file("split_ab.tsv")));
+  CHECK_THAT(recorded, Contains("# --- the config file as read ---\n# the test's config\n" + std::string(kTinyConfig)));
+  CHECK_THAT(recorded, Contains("# split: " + split_ab + "\n"));
   const std::string model = Slurp(out + "/model.yaml");
-  CHECK_THAT(model, Contains("split: " + dir.file("split_ab.tsv")));
+  CHECK_THAT(model, Contains("split: " + split_ab));
   CHECK_THAT(model, Contains("training_config: training.yaml"));
   CHECK_THAT(model, Contains("config: tiny-cli"));
 
+  const std::string same = "train --config " + config + " --data " + data + " --split " + split_ab + " --out " + out;
+  auto log_rows = [&] {
+    int rows = 0;
+    std::ifstream log(out + "/log.csv");
+    for (std::string line; std::getline(log, line);) rows += !line.empty();
+    return rows;
+  };
   // Running the same command again resumes at epoch 2 and finishes.
-  r = Motionfork("train --config " + config + " --data " + data + " --split " + dir.file("split_ab.tsv") +
-                 " --out " + out);
+  r = Motionfork(same);
   INFO(r.output);
   REQUIRE(r.status == 0);
   CHECK_THAT(r.output, Contains("resuming from"));
   CHECK_THAT(r.output, Contains("epoch 2/2"));
-  int rows = 0;
-  std::ifstream log(out + "/log.csv");
-  for (std::string line; std::getline(log, line);) rows += !line.empty();
-  CHECK(rows == 3);  // header + two epochs
+  CHECK(log_rows() == 3);  // header + two epochs
 
-  // Another config into the same folder is refused, naming the recorded one; nothing is trained.
+  // Another config, or the same one without its split, is refused before anything is trained,
+  // also when the other config is the recorded one's tail (the file without its first line).
   std::string other = kTinyConfig;
   other.replace(other.find("learning_rate: 0.001"), 20, "learning_rate: 0.002");
   std::ofstream(dir.file("other.yaml")) << other;
-  r = Motionfork("-q train --config " + dir.file("other.yaml") + " --data " + data + " --out " + out + " --epochs 3");
+  std::ofstream(dir.file("tail.yaml")) << kTinyConfig;
+  for (const std::string& cfg : {dir.file("other.yaml"), dir.file("tail.yaml")}) {
+    r = Motionfork("-q train --config " + cfg + " --data " + data + " --split " + split_ab + " --out " + out +
+                   " --epochs 3");
+    CHECK(r.status == 2);
+    CHECK_THAT(r.output, Contains(out + "/training.yaml") && Contains("another config than now (" + cfg));
+  }
+  r = Motionfork("-q train --config " + config + " --data " + data + " --out " + out + " --epochs 3");
   CHECK(r.status == 2);
-  CHECK_THAT(r.output, Contains(out + "/training.yaml") && Contains("another config than " + dir.file("other.yaml")));
+  CHECK_THAT(r.output, Contains("another split than now (the protocol's own)"));
+  CHECK(log_rows() == 3);
   CHECK_THAT(Slurp(out + "/training.yaml"), Contains("learning_rate: 0.001"));
+  // --epochs may change: one more epoch, recorded.
+  r = Motionfork("-q " + same + " --epochs 3");
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK(log_rows() == 4);
+  CHECK_THAT(Slurp(out + "/training.yaml"), Contains("--epochs 3 on the command line"));
 
   // The bundle predicts; without --split the protocol's own split is recorded.
   r = Motionfork("predict --model " + out + " --history " + data + "/walk_c.bvh -k 3 --seed 1 -o " +
@@ -124,6 +143,7 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
                  " --epochs 1");
   INFO(r.output);
   REQUIRE(r.status == 0);
-  CHECK_THAT(Slurp(dir.file("run2") + "/model.yaml"), Contains("split: the protocol's"));
+  CHECK_THAT(Slurp(dir.file("run2") + "/model.yaml"), Contains("split: the protocol's own"));
+  CHECK_THAT(Slurp(dir.file("run2") + "/training.yaml"), Contains("# split: the protocol's own\n"));
   CHECK_THAT(Slurp(dir.file("run2") + "/training.yaml"), Contains("--epochs 1 on the command line"));
 }
