@@ -6,26 +6,20 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
+#include "io/file_util.h"
 #include "run_motionfork.h"
 #include "test_support.h"
 
 using Catch::Contains;
+using motionfork::ReadFileBytes;
 using motionfork::testing::Motionfork;
 using motionfork::testing::Run;
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // A generator small enough to train an epoch in seconds: no prior, no angle loss.
 const char* kTinyConfig = R"(name: tiny-cli
@@ -86,10 +80,10 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
   }
   // The recipe and the clips it saw travel with the weights.
   const std::string split_ab = dir.file("split_ab.tsv");
-  const std::string recorded = Slurp(out + "/training.yaml");
+  const std::string recorded = ReadFileBytes(out + "/training.yaml");
   CHECK_THAT(recorded, Contains("# --- the config file as read ---\n# the test's config\n" + std::string(kTinyConfig)));
   CHECK_THAT(recorded, Contains("# split: " + split_ab + "\n"));
-  const std::string model = Slurp(out + "/model.yaml");
+  const std::string model = ReadFileBytes(out + "/model.yaml");
   CHECK_THAT(model, Contains("split: " + split_ab));
   CHECK_THAT(model, Contains("training_config: training.yaml"));
   CHECK_THAT(model, Contains("config: tiny-cli"));
@@ -125,13 +119,13 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("another split than now (the protocol's own)"));
   CHECK(log_rows() == 3);
-  CHECK_THAT(Slurp(out + "/training.yaml"), Contains("learning_rate: 0.001"));
+  CHECK_THAT(ReadFileBytes(out + "/training.yaml"), Contains("learning_rate: 0.001"));
   // --epochs may change: one more epoch, recorded.
   r = Motionfork("-q " + same + " --epochs 3");
   INFO(r.output);
   REQUIRE(r.status == 0);
   CHECK(log_rows() == 4);
-  CHECK_THAT(Slurp(out + "/training.yaml"), Contains("--epochs 3 on the command line"));
+  CHECK_THAT(ReadFileBytes(out + "/training.yaml"), Contains("--epochs 3 on the command line"));
 
   // The bundle predicts; without --split the protocol's own split is recorded.
   r = Motionfork("predict --model " + out + " --history " + data + "/walk_c.bvh -k 3 --seed 1 -o " +
@@ -143,7 +137,7 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
                  " --epochs 1");
   INFO(r.output);
   REQUIRE(r.status == 0);
-  CHECK_THAT(Slurp(dir.file("run2") + "/model.yaml"), Contains("split: the protocol's own"));
-  CHECK_THAT(Slurp(dir.file("run2") + "/training.yaml"), Contains("# split: the protocol's own\n"));
-  CHECK_THAT(Slurp(dir.file("run2") + "/training.yaml"), Contains("--epochs 1 on the command line"));
+  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/model.yaml"), Contains("split: the protocol's own"));
+  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"), Contains("# split: the protocol's own\n"));
+  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"), Contains("--epochs 1 on the command line"));
 }
