@@ -71,15 +71,13 @@ torch::Tensor GeneratorNetImpl::Decode(const torch::Tensor& coeffs, const std::v
                                 " latents (one per part), got " + std::to_string(z.size()));
   }
   torch::Tensor current = coeffs;
-  bool varied = false;  // has an earlier part varied across samples?
   for (size_t p = 0; p < parts_.size(); ++p) {
     const bool is_fixed = p < fixed.size() && fixed[p];
     torch::Tensor out = parts_[p]->forward(current, z[p]);
-    if (is_fixed && varied && k > 1) {
+    if (is_fixed && k > 1) {
       const int64_t N = out.size(0), B = out.size(1), C = out.size(2);
       out = out.view({N, B / k, k, C}).select(2, 0).unsqueeze(2).expand({N, B / k, k, C}).reshape({N, B, C});
     }
-    varied = varied || !is_fixed;
     current = torch::where(masks_[p], out, current);
   }
   return current;

@@ -28,9 +28,11 @@ class GeneratorNetImpl : public torch::nn::Module {
 
   // Runs the parts in order on coefficients [N, B, C] with one latent per part, z[p]: [B, nz].
   // fixed (empty = none): parts whose latent all K samples of a history share (B = Bh * K). A
-  // fixed part after a varying one would still vary through its input (the graph as the earlier
-  // parts left it), so its output is computed from the history's first sample and given to all
-  // K: the fixed part is then identical across samples, as control promises.
+  // fixed part's output is taken from the history's first sample and given to all K: after a
+  // varying part its input differs per sample (the graph as the earlier parts left it), and even
+  // with equal inputs matrix products may round rows differently by their place in the batch
+  // (OpenBLAS's Haswell kernels do, by about 1e-7). The fixed part is then bit-identical across
+  // samples, as control promises.
   torch::Tensor Decode(const torch::Tensor& coeffs, const std::vector<torch::Tensor>& z,
                        const std::vector<bool>& fixed = {}, int64_t k = 1);
 

@@ -64,15 +64,30 @@ TEST_CASE("generator shapes, parts in sequence and part control") {
   // Fix part 0's latent across samples: its nodes are identical in all K futures, part 1 varies.
   std::vector<torch::Tensor> fixed = {z[0].view({2, K, 3}).select(1, 0).unsqueeze(1).expand({2, K, 3}).reshape({2 * K, 3}),
                                       z[1]};
-  const torch::Tensor f = net->forward(h, fixed).view({2, K, 15, 6, 3});
-  const torch::Tensor legs = f.slice(3, 0, 3);
-  CHECK((legs - legs.select(1, 0).unsqueeze(1)).abs().max().item<float>() == 0.0f);
-  const torch::Tensor upper = f.slice(3, 3, 6);
-  CHECK((upper - upper.select(1, 0).unsqueeze(1)).abs().max().item<float>() > 1e-3f);
-  // Fixing the later part instead: part 0 varies, part 1 still differs (it sees part 0's output).
+  // Max over samples of the difference to sample 0, for joints [from, to) of futures [2, K, ...].
+  const auto spread = [](const torch::Tensor& f, int64_t from, int64_t to) {
+    const torch::Tensor j = f.slice(3, from, to);
+    return (j - j.select(1, 0).unsqueeze(1)).abs().max().item<float>();
+  };
+  // Told which part is fixed (as Forecaster does), the part is bit-identical across samples.
+  const torch::Tensor f = net->forward(h, fixed, {true, false}).view({2, K, 15, 6, 3});
+  CHECK(spread(f, 0, 3) == 0.0f);
+  CHECK(spread(f, 3, 6) > 1e-3f);
+  // Not told, the same latent in every sample gives the same legs up to the rounding of matrix
+  // products whose row blocks differ (OpenBLAS's Haswell kernels on an AMD EPYC differ at about
+  // 1e-7; the flag above is what makes control exact).
+  const torch::Tensor u = net->forward(h, fixed).view({2, K, 15, 6, 3});
+  CHECK(spread(u, 0, 3) < 1e-5f);
+  CHECK(torch::allclose(u, f, 1e-5, 1e-5));
+  // Fixing the later part instead: part 0 varies; part 1, which sees part 0's output, varies too
+  // unless flagged as fixed, when it is computed from each history's first sample.
   std::vector<torch::Tensor> fix_second = {z[0], fixed[0]};
   const torch::Tensor g = net->forward(h, fix_second).view({2, K, 15, 6, 3});
-  CHECK((g.slice(3, 0, 3) - g.slice(3, 0, 3).select(1, 0).unsqueeze(1)).abs().max().item<float>() > 1e-3f);
+  CHECK(spread(g, 0, 3) > 1e-3f);
+  CHECK(spread(g, 3, 6) > 1e-3f);
+  const torch::Tensor gf = net->forward(h, fix_second, {false, true}).view({2, K, 15, 6, 3});
+  CHECK(spread(gf, 0, 3) > 1e-3f);
+  CHECK(spread(gf, 3, 6) == 0.0f);
 }
 
 TEST_CASE("every generator parameter receives a gradient") {
@@ -191,10 +206,14 @@ TEST_CASE("weight product kernel matches the matrix product, values and gradient
   CHECK(torch::allclose(y, r, 1e-5, 1e-4));
   CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-4));
   CHECK(torch::allclose(w.grad(), rw.grad(), 1e-5, 1e-4));
-  // A row's product does not depend on the rows around it (bit for bit).
-  torch::NoGradGuard no_grad;
-  const torch::Tensor all = WeightProduct(x0, w0);
-  CHECK(torch::equal(WeightProduct(x0.slice(0, 0, 4099), w0).slice(0, 4098), all.slice(0, 4098, 4099)));
+  // Where the kernel runs, a row's product does not depend on the rows around it (bit for bit).
+  // Shapes left to LibTorch are not held to it: OpenBLAS's Haswell kernels (chosen on an AMD
+  // EPYC) round a row differently by its place in the batch.
+  if (shape[0] > 4099 && shape[2] % 16 == 0) {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor all = WeightProduct(x0, w0);
+    CHECK(torch::equal(WeightProduct(x0.slice(0, 0, 4099), w0).slice(0, 4098), all.slice(0, 4098, 4099)));
+  }
 }
 
 TEST_CASE("generator in eval mode gives the same futures through fused and plain paths") {
