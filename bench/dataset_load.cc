@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   try {
     const ProtocolOptions p =
         LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", protocol_name));
-    const SkeletonConfig s = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", p.skeleton));
+    const SkeletonConfig s =
+        LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", p.skeleton));
     const std::filesystem::path cache =
         std::filesystem::temp_directory_path() / "motionfork_bench_cache";
     std::filesystem::remove_all(cache);

@@ -28,7 +28,8 @@ double Seconds(const std::chrono::steady_clock::time_point& t0) {
 }
 
 // Best of `reps` runs, seconds.
-double Time(const DvaeModel& model, const std::vector<std::vector<float>>& seqs, const DenoiseOptions& o, int reps) {
+double Time(const DvaeModel& model, const std::vector<std::vector<float>>& seqs,
+            const DenoiseOptions& o, int reps) {
   model.Denoise(seqs, o);  // warm-up
   double best = 1e30;
   for (int r = 0; r < reps; ++r) {
@@ -45,7 +46,9 @@ int main(int argc, char** argv) {
   UseFastBlasKernels(argv);
   KeepFreedMemory();
   if (argc < 2) {
-    std::fprintf(stderr, "usage: bench_denoise MODEL_DIR [--threads N] [--frames F] [--samples S] [--iterations I]\n");
+    std::fprintf(stderr,
+                 "usage: bench_denoise MODEL_DIR [--threads N] [--frames F] [--samples S] "
+                 "[--iterations I]\n");
     return 2;
   }
   int threads = 1, frames = 3000, samples = -1, iterations = -1;
@@ -70,22 +73,29 @@ int main(int argc, char** argv) {
   const Motion noisy = AddNoise(MakeDemoWalk(skeleton, walk), ParseNoiseSpec("gaussian:0.05"), 1);
   const std::vector<float>& p = noisy.positions();
   const size_t fv = static_cast<size_t>(model.joints()) * 3;
-  std::printf("model %s: %s parameters, windows of %d frames every %d; %d thread(s); %d posterior draws%s\n", argv[1],
-              std::to_string(model.num_parameters()).c_str(), model.window(), reg.stride, threads, reg.samples,
-              reg.fuse ? ", fused output" : ", decoder output");
+  std::printf(
+      "model %s: %s parameters, windows of %d frames every %d; %d thread(s); %d posterior "
+      "draws%s\n",
+      argv[1], std::to_string(model.num_parameters()).c_str(), model.window(), reg.stride, threads,
+      reg.samples, reg.fuse ? ", fused output" : ", decoder output");
   const double whole = Time(model, {p}, reg, 3);
-  std::printf("regression, one sequence of %d frames: %8.1f ms (%7.0f frames/s)\n", frames, 1e3 * whole, frames / whole);
+  std::printf("regression, one sequence of %d frames: %8.1f ms (%7.0f frames/s)\n", frames,
+              1e3 * whole, frames / whole);
   std::vector<std::vector<float>> seconds;
-  for (int s = 0; s < 30 && (s + 1) * 30 <= frames; ++s) seconds.emplace_back(p.begin() + s * 30 * fv, p.begin() + (s + 1) * 30 * fv);
+  for (int s = 0; s < 30 && (s + 1) * 30 <= frames; ++s)
+    seconds.emplace_back(p.begin() + s * 30 * fv, p.begin() + (s + 1) * 30 * fv);
   const double batched = Time(model, seconds, reg, 3);
-  std::printf("regression, %zu sequences of 30 frames: %8.1f ms (%7.0f frames/s)\n", seconds.size(), 1e3 * batched,
-              seconds.size() * 30 / batched);
-  const std::vector<std::vector<float>> history = {std::vector<float>(p.begin(), p.begin() + 15 * fv)};
+  std::printf("regression, %zu sequences of 30 frames: %8.1f ms (%7.0f frames/s)\n", seconds.size(),
+              1e3 * batched, seconds.size() * 30 / batched);
+  const std::vector<std::vector<float>> history = {
+      std::vector<float>(p.begin(), p.begin() + 15 * fv)};
   const double one = Time(model, history, reg, 20);
   std::printf("regression, one 15-frame history: %8.2f ms\n", 1e3 * one);
-  const std::vector<std::vector<float>> opt_seq = {std::vector<float>(p.begin(), p.begin() + std::min(frames, 300) * fv)};
+  const std::vector<std::vector<float>> opt_seq = {
+      std::vector<float>(p.begin(), p.begin() + std::min(frames, 300) * fv)};
   const double o = Time(model, opt_seq, opt, 1);
-  std::printf("optimisation (%d iterations), one sequence of %d frames: %8.1f ms (%7.0f frames/s)\n", opt.iterations,
-              std::min(frames, 300), 1e3 * o, std::min(frames, 300) / o);
+  std::printf(
+      "optimisation (%d iterations), one sequence of %d frames: %8.1f ms (%7.0f frames/s)\n",
+      opt.iterations, std::min(frames, 300), 1e3 * o, std::min(frames, 300) / o);
   return 0;
 }

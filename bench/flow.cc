@@ -23,8 +23,8 @@
 #include <vector>
 
 #include "flow/flow_module.h"
-#include "torch_util/threads.h"
 #include "torch_util/blas_core.h"
+#include "torch_util/threads.h"
 
 using namespace motionfork;
 

@@ -5,9 +5,9 @@
 //
 // Twelve independent chains of 16-wide fused multiply-adds on registers only (no memory), so
 // only the core's two FMA units and its clock limit it. Prints GFLOP/s (2 per multiply-add).
-#include <cstdio>
-
 #include "fma_peak.h"
+
+#include <cstdio>
 
 int main() {
   __builtin_cpu_init();
@@ -16,6 +16,8 @@ int main() {
     return 0;
   }
   motionfork::bench::PeakGflops(20000000);  // warm up (clock ramp)
-  for (int run = 0; run < 3; ++run) std::printf("AVX-512 FMA peak, one core: %.1f GFLOP/s\n", motionfork::bench::PeakGflops(200000000));
+  for (int run = 0; run < 3; ++run)
+    std::printf("AVX-512 FMA peak, one core: %.1f GFLOP/s\n",
+                motionfork::bench::PeakGflops(200000000));
   return 0;
 }

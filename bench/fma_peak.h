@@ -24,7 +24,8 @@ __attribute__((target("avx512f"))) inline double PeakGflops(long iterations) {
     for (int j = 0; j < kChains; ++j) a[j] = _mm512_fmadd_ps(a[j], b, c);
     __asm__ volatile("");  // keep the loop: one iteration = 12 multiply-adds of 16 lanes
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   __m512 sum = a[0];
   for (int j = 1; j < kChains; ++j) sum = _mm512_add_ps(sum, a[j]);
   if (_mm512_reduce_add_ps(sum) < 0) std::printf("unreachable\n");  // the result is used

@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "fma_peak.h"
-#include "peak_memory.h"
 #include "generator/fast_generator.h"
 #include "generator/generator_net.h"
-#include "torch_util/threads.h"
+#include "peak_memory.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
+#include "torch_util/threads.h"
 
 using namespace motionfork;
 
@@ -73,14 +73,17 @@ int main(int argc, char** argv) {
   o.hidden = 256;
   o.blocks = 4;
   o.nz = 64;
-  GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5}, {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}});
+  GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5},
+                                                        {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}});
   net->eval();
   int64_t params = 0;
   for (const auto& p : net->parameters()) params += p.numel();
-  std::printf("generator: %lld parameters, %d thread(s)\n", static_cast<long long>(params), threads);
+  std::printf("generator: %lld parameters, %d thread(s)\n", static_cast<long long>(params),
+              threads);
   const double gflop_per_sample = 2 * MacsPerSample(o, 2) / 1e9;
 
-  std::printf("peak resident memory with the network built: %.0f MB\n", bench::PeakResidentMegabytes());
+  std::printf("peak resident memory with the network built: %.0f MB\n",
+              bench::PeakResidentMegabytes());
   // The fused AVX-512 path (FastGenerator, what Forecaster uses on such CPUs): same work.
   if (FastGenerator::Available()) {
     // The core's peak varies on this machine kind (up to 20% between hours): measured here,
@@ -94,8 +97,10 @@ int main(int argc, char** argv) {
       std::vector<double> times;
       for (int r = 0; r < reps; ++r) {
         const auto t0 = std::chrono::steady_clock::now();
-        const torch::Tensor z0 = torch::randn({histories * k, o.nz}), z1 = torch::randn({histories * k, o.nz});
-        fast.Predict(h.data_ptr<float>(), histories, k, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, out.data());
+        const torch::Tensor z0 = torch::randn({histories * k, o.nz}),
+                            z1 = torch::randn({histories * k, o.nz});
+        fast.Predict(h.data_ptr<float>(), histories, k,
+                     {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, out.data());
         times.push_back(Seconds(t0));
       }
       std::sort(times.begin(), times.end());
@@ -105,19 +110,25 @@ int main(int argc, char** argv) {
     const double f1 = run_fast(1, 50, 41);
     const double peak = 0.5 * (peak_before + bench::PeakGflops(100000000));
     std::printf("AVX-512 multiply-add peak now: %.1f GFLOP/s\n", peak);
-    std::printf("fused: 50 futures of 1 history: %.2f ms median (%.1f GFLOP/s, %.0f%% of that peak)\n", f1 * 1e3,
-                50 * gflop_per_sample / f1, 100 * 50 * gflop_per_sample / f1 / peak);
+    std::printf(
+        "fused: 50 futures of 1 history: %.2f ms median (%.1f GFLOP/s, %.0f%% of that peak)\n",
+        f1 * 1e3, 50 * gflop_per_sample / f1, 100 * 50 * gflop_per_sample / f1 / peak);
     const double per = SixteenOneAtATime(run_fast, 9);
-    std::printf("fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s\n",
-                per * 1e3, 16 / per);
+    std::printf(
+        "fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f "
+        "histories/s\n",
+        per * 1e3, 16 / per);
     // What Forecaster needs (it runs about 64 samples at a time), before the one-call run below
     // makes scratch for 800 samples.
     std::printf("peak resident memory after the fused inference, one history at a time: %.0f MB\n",
                 bench::PeakResidentMegabytes());
     const double f16 = run_fast(16, 50, 9);
-    std::printf("fused: 16 histories x 50 futures in one call: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
-                f16 * 1e3, 16 / f16, 16 * 50 * gflop_per_sample / f16);
-    std::printf("peak resident memory after the fused inference: %.0f MB\n", bench::PeakResidentMegabytes());
+    std::printf(
+        "fused: 16 histories x 50 futures in one call: %.1f ms median = %.1f histories/s (%.1f "
+        "GFLOP/s)\n",
+        f16 * 1e3, 16 / f16, 16 * 50 * gflop_per_sample / f16);
+    std::printf("peak resident memory after the fused inference: %.0f MB\n",
+                bench::PeakResidentMegabytes());
   }
 
   auto run = [&](int64_t histories, int64_t k, int reps) {
@@ -126,7 +137,8 @@ int main(int argc, char** argv) {
     std::vector<double> times;
     for (int r = 0; r < reps; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
-      std::vector<torch::Tensor> z = {torch::randn({histories * k, o.nz}), torch::randn({histories * k, o.nz})};
+      std::vector<torch::Tensor> z = {torch::randn({histories * k, o.nz}),
+                                      torch::randn({histories * k, o.nz})};
       const torch::Tensor y = net->forward(h, z);
       times.push_back(Seconds(t0));
     }
@@ -143,10 +155,13 @@ int main(int argc, char** argv) {
   // The same work one history at a time, as Forecaster::PredictRootRelative chunks it (the
   // activations of 50 samples stay in cache).
   const double per16 = SixteenOneAtATime(run, 7);
-  std::printf("16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s (%.1f GFLOP/s)\n",
-              per16 * 1e3, 16 / per16, 16 * 50 * gflop_per_sample / per16);
+  std::printf(
+      "16 histories x 50 futures, one history at a time: %.1f ms median = %.1f histories/s (%.1f "
+      "GFLOP/s)\n",
+      per16 * 1e3, 16 / per16, 16 * 50 * gflop_per_sample / per16);
 
-  std::printf("peak resident memory after LibTorch's inference: %.0f MB\n", bench::PeakResidentMegabytes());
+  std::printf("peak resident memory after LibTorch's inference: %.0f MB\n",
+              bench::PeakResidentMegabytes());
 
   // Training step of the network alone (forward + backward of a squared loss), 16 x 100 futures.
   net->train();
@@ -164,6 +179,7 @@ int main(int argc, char** argv) {
   std::sort(steps.begin(), steps.end());
   std::printf("network training step, 16 histories x 100 futures (no losses): %.2f s median\n",
               steps[steps.size() / 2]);
-  std::printf("peak resident memory after the training steps: %.0f MB\n", bench::PeakResidentMegabytes());
+  std::printf("peak resident memory after the training steps: %.0f MB\n",
+              bench::PeakResidentMegabytes());
   return 0;
 }

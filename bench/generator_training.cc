@@ -13,10 +13,9 @@
 // about 18 us of kernel time per page on this VM) and are not what a long training run sees: W
 // (default 3) warm-up steps are left out of the medians.
 // MOTIONFORK_PROFILE=FILE writes LibTorch's profile of the last step (a Chrome trace) to FILE.
-#include <torch/torch.h>
-#include <torch/csrc/autograd/profiler_legacy.h>
-
 #include <sys/resource.h>
+#include <torch/csrc/autograd/profiler_legacy.h>
+#include <torch/torch.h>
 
 #include <algorithm>
 #include <chrono>
@@ -34,10 +33,10 @@
 #include "constraints/torch/angle_penalty.h"
 #include "flow/flow_module.h"
 #include "flow/pose_prior.h"
-#include "peak_memory.h"
 #include "generator/generator_net.h"
 #include "generator/latents.h"
 #include "generator/losses.h"
+#include "peak_memory.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 #include "torch_util/threads.h"
@@ -66,12 +65,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::max(1, std::atoi(argv[++i]));
-    if (!std::strcmp(argv[i], "--warmup") && i + 1 < argc) warmup = std::max(0, std::atoi(argv[++i]));
+    if (!std::strcmp(argv[i], "--warmup") && i + 1 < argc)
+      warmup = std::max(0, std::atoi(argv[++i]));
   }
   PinThreads(threads);
   torch::manual_seed(0);
   const std::string configs = MOTIONFORK_BENCH_CONFIG_DIR;
-  const std::shared_ptr<const Skeleton> skeleton = LoadSkeletonConfig(configs + "/skeletons/h36m.yaml").skeleton;
+  const std::shared_ptr<const Skeleton> skeleton =
+      LoadSkeletonConfig(configs + "/skeletons/h36m.yaml").skeleton;
   const PartPlan plan = MakePartPlan(*skeleton, "default");
   GeneratorOptions o;
   o.num_nodes = skeleton->num_joints() - 1;
@@ -98,12 +99,14 @@ int main(int argc, char** argv) {
     angle_seconds = Seconds(t0);
     return out;
   };
-  auto prior = std::make_shared<PosePrior>(skeleton, LoadFlowConfig(configs + "/models/flow_prior.yaml"));
+  auto prior =
+      std::make_shared<PosePrior>(skeleton, LoadFlowConfig(configs + "/models/flow_prior.yaml"));
   prior->module()->Freeze();
   const std::vector<int> parents = skeleton->parents();
   hooks.prior_nll = [prior, parents, &prior_seconds](const torch::Tensor& poses) {
     const auto t0 = Clock::now();
-    torch::Tensor out = -prior->module()->log_prob(LimbDirectionsRootRelative(poses, parents)).mean();
+    torch::Tensor out =
+        -prior->module()->log_prob(LimbDirectionsRootRelative(poses, parents)).mean();
     prior_seconds = Seconds(t0);
     return out;
   };
@@ -116,8 +119,9 @@ int main(int argc, char** argv) {
   std::vector<int64_t> node_parents(N);
   for (int64_t n = 0; n < N; ++n) node_parents[n] = skeleton->parent(static_cast<int>(n) + 1) - 1;
   at::Generator gen = MakeGenerator(0);
-  std::printf("training step: %lld histories x %lld futures, one thread: %d\n", static_cast<long long>(Bh),
-              static_cast<long long>(per_part[0] * per_part[1]), threads);
+  std::printf("training step: %lld histories x %lld futures, one thread: %d\n",
+              static_cast<long long>(Bh), static_cast<long long>(per_part[0] * per_part[1]),
+              threads);
   std::vector<double> forward, losses, backward, update, total, prior_time, angle_time;
   for (int s = 0; s < warmup + steps; ++s) {
     const torch::Tensor truth = torch::randn({Bh, T, N, 3}) * 0.2;
@@ -126,13 +130,20 @@ int main(int argc, char** argv) {
     const auto z = NestedLatents(Bh, per_part, o.nz, gen);
     std::unique_ptr<torch::autograd::profiler::RecordProfile> profile;
     if (s == warmup + steps - 1 && std::getenv("MOTIONFORK_PROFILE")) {
-      profile = std::make_unique<torch::autograd::profiler::RecordProfile>(std::getenv("MOTIONFORK_PROFILE"));
+      profile = std::make_unique<torch::autograd::profiler::RecordProfile>(
+          std::getenv("MOTIONFORK_PROFILE"));
     }
     rusage ru0;
     getrusage(RUSAGE_SELF, &ru0);
     const auto t0 = Clock::now();
-    LossBatch batch{net->ForwardNested(truth.slice(1, 0, o.t_his), z, per_part), truth, pseudo, mask,
-                    per_part, plan.nodes, node_parents, o.t_his};
+    LossBatch batch{net->ForwardNested(truth.slice(1, 0, o.t_his), z, per_part),
+                    truth,
+                    pseudo,
+                    mask,
+                    per_part,
+                    plan.nodes,
+                    node_parents,
+                    o.t_his};
     const double t_forward = Seconds(t0);
     const auto t1 = Clock::now();
     const LossTerms terms = ComputeLosses(batch, weights, hooks, 0, 3);
@@ -147,9 +158,10 @@ int main(int argc, char** argv) {
     const double t_update = Seconds(t3);
     rusage ru1;
     getrusage(RUSAGE_SELF, &ru1);
-    std::printf("step %d%s: %.2f s, %ld page faults, %.2f s in the kernel\n", s, s < warmup ? " (warm-up)" : "",
-                Seconds(t0), ru1.ru_minflt - ru0.ru_minflt,
-                (ru1.ru_stime.tv_sec - ru0.ru_stime.tv_sec) + 1e-6 * (ru1.ru_stime.tv_usec - ru0.ru_stime.tv_usec));
+    std::printf("step %d%s: %.2f s, %ld page faults, %.2f s in the kernel\n", s,
+                s < warmup ? " (warm-up)" : "", Seconds(t0), ru1.ru_minflt - ru0.ru_minflt,
+                (ru1.ru_stime.tv_sec - ru0.ru_stime.tv_sec) +
+                    1e-6 * (ru1.ru_stime.tv_usec - ru0.ru_stime.tv_usec));
     std::fflush(stdout);
     if (s < warmup) continue;
     forward.push_back(t_forward);
@@ -162,12 +174,13 @@ int main(int argc, char** argv) {
   }
   std::printf("generator forward: %.2f s\n", Median(forward));
   std::printf("losses (incl. prior NLL and angle penalty): %.2f s\n", Median(losses));
-  std::printf("  of which prior NLL forward %.2f s, angle penalty forward %.2f s\n", Median(prior_time),
-              Median(angle_time));
+  std::printf("  of which prior NLL forward %.2f s, angle penalty forward %.2f s\n",
+              Median(prior_time), Median(angle_time));
   std::printf("backward (all terms): %.2f s\n", Median(backward));
   std::printf("clip + Adam: %.3f s\n", Median(update));
-  std::printf("training step, all losses: %.2f s median of %d (after %d warm-up steps), fastest %.2f s\n",
-              Median(total), steps, warmup, *std::min_element(total.begin(), total.end()));
+  std::printf(
+      "training step, all losses: %.2f s median of %d (after %d warm-up steps), fastest %.2f s\n",
+      Median(total), steps, warmup, *std::min_element(total.begin(), total.end()));
   std::printf("peak resident memory: %.0f MB\n", bench::PeakResidentMegabytes());
   return 0;
 }

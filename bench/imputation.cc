@@ -45,8 +45,10 @@ int main(int argc, char** argv) {
   ImputeOptions o = model.manifest().impute;
   if (steps >= 0) o.steps = steps;
   const int T = model.window(), N = model.coords();
-  std::printf("model %s: windows of %d frames x %d coordinates, %zu levels; %d threads, %d Adam steps (%s objective)\n",
-              argv[1], T, N, model.manifest().model.levels.size(), threads, o.steps, ToString(o.objective));
+  std::printf(
+      "model %s: windows of %d frames x %d coordinates, %zu levels; %d threads, %d Adam steps (%s "
+      "objective)\n",
+      argv[1], T, N, model.manifest().model.levels.size(), threads, o.steps, ToString(o.objective));
   for (int batch : {1, 16, 256}) {
     const std::vector<float> w = model.Sample(batch, -1, 1);
     const std::vector<uint8_t> mask = RandomOcclusion(batch, T * N, 0.1, 2);
@@ -55,8 +57,8 @@ int main(int argc, char** argv) {
     auto t0 = std::chrono::steady_clock::now();
     for (int r = 0; r < reps; ++r) model.Impute(w, mask, o);
     const double s = Seconds(t0) / reps;
-    std::printf("impute %3d window%s: %8.1f ms  (%7.1f windows/s)\n", batch, batch == 1 ? " " : "s", 1e3 * s,
-                batch / s);
+    std::printf("impute %3d window%s: %8.1f ms  (%7.1f windows/s)\n", batch, batch == 1 ? " " : "s",
+                1e3 * s, batch / s);
   }
   const std::vector<float> w = model.Sample(1024, -1, 3);
   model.Score(w);

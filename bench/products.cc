@@ -46,8 +46,8 @@ struct Timing {
 
 void Print(const char* what, Timing& t, double gflop) {
   const double median = t.Median(), best = t.Best();
-  std::printf("  %-44s %8.2f ms median (%5.1f GFLOP/s), best %8.2f ms (%5.1f GFLOP/s)\n", what, median * 1e3,
-              gflop / median, best * 1e3, gflop / best);
+  std::printf("  %-44s %8.2f ms median (%5.1f GFLOP/s), best %8.2f ms (%5.1f GFLOP/s)\n", what,
+              median * 1e3, gflop / median, best * 1e3, gflop / best);
 }
 
 }  // namespace
@@ -81,7 +81,8 @@ int main(int argc, char** argv) {
     torch::Tensor z = torch::empty({M, H}), zt = torch::empty({M, H});
     Timing kernel, blas;
     for (int r = 0; r < runs; ++r) {
-      kernel.runs.push_back(Seconds([&] { kernels::MatMul(x.data_ptr<float>(), M, K, packed, z.data_ptr<float>()); }));
+      kernel.runs.push_back(Seconds(
+          [&] { kernels::MatMul(x.data_ptr<float>(), M, K, packed, z.data_ptr<float>()); }));
       blas.runs.push_back(Seconds([&] { at::mm_out(zt, x, w); }));
     }
     std::printf("[%lld, 256] x [256, 256], %d runs each (%.2f GFLOP), max |difference| %.2g:\n",

@@ -1,12 +1,12 @@
 // Runs the built motionfork command as a user would (stdout and stderr together, exit status).
 #pragma once
 
-#include <catch2/catch.hpp>
+#include <sys/wait.h>
 
 #include <array>
+#include <catch2/catch.hpp>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 namespace motionfork::testing {
 

@@ -18,15 +18,16 @@ namespace motionfork::testing {
 inline std::shared_ptr<const Skeleton> MakeHumanoid() {
   SkeletonSpec s;
   s.name = "test_humanoid";
-  s.joint_names = {"Hips",      "UpperLeg_R", "LowerLeg_R", "Foot_R",     "UpperLeg_L", "LowerLeg_L",
-                   "Foot_L",    "Spine",      "Chest",      "Neck",       "Head",       "UpperArm_L",
-                   "LowerArm_L", "Hand_L",    "UpperArm_R", "LowerArm_R", "Hand_R"};
-  s.parent_names = {"",      "Hips",  "UpperLeg_R", "LowerLeg_R", "Hips",       "UpperLeg_L",
-                    "LowerLeg_L", "Hips", "Spine",  "Chest",      "Neck",       "Chest",
-                    "UpperArm_L", "LowerArm_L", "Chest", "UpperArm_R", "LowerArm_R"};
-  s.left_right = {{"UpperLeg_L", "UpperLeg_R"}, {"LowerLeg_L", "LowerLeg_R"},
-                  {"Foot_L", "Foot_R"},         {"UpperArm_L", "UpperArm_R"},
-                  {"LowerArm_L", "LowerArm_R"}, {"Hand_L", "Hand_R"}};
+  s.joint_names = {"Hips",       "UpperLeg_R", "LowerLeg_R", "Foot_R", "UpperLeg_L",
+                   "LowerLeg_L", "Foot_L",     "Spine",      "Chest",  "Neck",
+                   "Head",       "UpperArm_L", "LowerArm_L", "Hand_L", "UpperArm_R",
+                   "LowerArm_R", "Hand_R"};
+  s.parent_names = {"",           "Hips",       "UpperLeg_R", "LowerLeg_R", "Hips",
+                    "UpperLeg_L", "LowerLeg_L", "Hips",       "Spine",      "Chest",
+                    "Neck",       "Chest",      "UpperArm_L", "LowerArm_L", "Chest",
+                    "UpperArm_R", "LowerArm_R"};
+  s.left_right = {{"UpperLeg_L", "UpperLeg_R"}, {"LowerLeg_L", "LowerLeg_R"}, {"Foot_L", "Foot_R"},
+                  {"UpperArm_L", "UpperArm_R"}, {"LowerArm_L", "LowerArm_R"}, {"Hand_L", "Hand_R"}};
   PartitionSpec def{"default", {}};
   def.parts.push_back(PartSpec{"legs", {}, {"UpperLeg_R", "UpperLeg_L"}, false});
   def.parts.push_back(PartSpec{"upper", {}, {}, true});
@@ -39,11 +40,11 @@ inline std::shared_ptr<const Skeleton> MakeHumanoid() {
 inline Motion MakeWalkingMotion(int frames, double fps = 30.0, unsigned seed = 7) {
   auto skel = MakeHumanoid();
   // Rest offsets from the parent, metres.
-  const float rest[17][3] = {{0, 0.95f, 0},      {-0.1f, 0, 0},  {0, -0.42f, 0}, {0, -0.42f, 0.05f},
-                             {0.1f, 0, 0},       {0, -0.42f, 0}, {0, -0.42f, 0.05f},
-                             {0, 0.2f, 0},       {0, 0.25f, 0},  {0, 0.15f, 0},   {0, 0.12f, 0.02f},
-                             {0.18f, 0, 0},      {0.28f, 0, 0},  {0.25f, 0, 0},
-                             {-0.18f, 0, 0},     {-0.28f, 0, 0}, {-0.25f, 0, 0}};
+  const float rest[17][3] = {{0, 0.95f, 0}, {-0.1f, 0, 0},  {0, -0.42f, 0},     {0, -0.42f, 0.05f},
+                             {0.1f, 0, 0},  {0, -0.42f, 0}, {0, -0.42f, 0.05f}, {0, 0.2f, 0},
+                             {0, 0.25f, 0}, {0, 0.15f, 0},  {0, 0.12f, 0.02f},  {0.18f, 0, 0},
+                             {0.28f, 0, 0}, {0.25f, 0, 0},  {-0.18f, 0, 0},     {-0.28f, 0, 0},
+                             {-0.25f, 0, 0}};
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> phase(0, 6.283f);
   float ph[17][3];

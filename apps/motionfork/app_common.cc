@@ -48,8 +48,8 @@ void ProgressBar::Update(double fraction, const std::string& detail) {
     const int decile = static_cast<int>(fraction * 10);
     if (decile == last_decile_) return;
     last_decile_ = decile;
-    std::fprintf(stderr, "%s: %3d%% (%s)%s%s\n", label_.c_str(), decile * 10, Duration(elapsed).c_str(),
-                 detail.empty() ? "" : " ", detail.c_str());
+    std::fprintf(stderr, "%s: %3d%% (%s)%s%s\n", label_.c_str(), decile * 10,
+                 Duration(elapsed).c_str(), detail.empty() ? "" : " ", detail.c_str());
     return;
   }
   if (now - last_draw_ < std::chrono::milliseconds(100) && fraction < 1.0) return;
@@ -59,7 +59,8 @@ void ProgressBar::Update(double fraction, const std::string& detail) {
   std::string bar(filled, '#');
   bar += std::string(kWidth - filled, '.');
   std::string eta;
-  if (fraction > 0.02 && fraction < 1.0) eta = ", " + Duration(elapsed / fraction - elapsed) + " left";
+  if (fraction > 0.02 && fraction < 1.0)
+    eta = ", " + Duration(elapsed / fraction - elapsed) + " left";
   std::string d = detail.size() > 110 ? "..." + detail.substr(detail.size() - 107) : detail;
   std::fprintf(stderr, "\r\033[K%s [%s] %3d%% %s%s %s", label_.c_str(), bar.c_str(),
                static_cast<int>(fraction * 100), Duration(elapsed).c_str(), eta.c_str(), d.c_str());

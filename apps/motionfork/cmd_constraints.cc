@@ -5,7 +5,6 @@
 #include <memory>
 
 #include "app_common.h"
-#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
@@ -15,6 +14,7 @@
 #include "constraints/constraint_set.h"
 #include "constraints/fit.h"
 #include "dataset/dataset.h"
+#include "dataset_loading.h"
 #include "io/file_util.h"
 
 namespace motionfork::app {

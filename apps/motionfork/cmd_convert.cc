@@ -36,17 +36,21 @@ void AddConvertCommand(CLI::App& app, GlobalOptions& global) {
   auto o = std::make_shared<ConvertOptions>();
   CLI::App* cmd = app.add_subcommand(
       "convert",
-      "Convert a motion file between .bvh, .npy [T, J, 3] and .csv (metres). Writing .bvh fits joint\n"
+      "Convert a motion file between .bvh, .npy [T, J, 3] and .csv (metres). Writing .bvh fits "
+      "joint\n"
       "rotations to the positions (needs a skeleton with parents, e.g. --skeleton bandai).\n"
-      "With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g. a 22-joint\n"
+      "With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g. a "
+      "22-joint\n"
       "Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted\n"
       "with tools/videopose3d_to_motionfork.py.");
   cmd->add_option("IN", o->in, "Input motion file")->required()->check(CLI::ExistingFile);
   cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")->required();
   AddMotionInputOptions(cmd, &o->input);
-  cmd->add_option("--resample", o->target_fps, "Resample to this frame rate, Hz (linear interpolation)")
+  cmd->add_option("--resample", o->target_fps,
+                  "Resample to this frame rate, Hz (linear interpolation)")
       ->check(CLI::PositiveNumber);
-  cmd->add_flag("--root-relative", o->root_relative, "Subtract the root joint's position in every frame");
+  cmd->add_flag("--root-relative", o->root_relative,
+                "Subtract the root joint's position in every frame");
   cmd->callback([o, &global] { RunConvert(*o, global); });
 }
 

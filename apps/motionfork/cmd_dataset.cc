@@ -6,13 +6,13 @@
 #include <memory>
 
 #include "app_common.h"
-#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "dataset/dataset.h"
 #include "dataset/windows.h"
+#include "dataset_loading.h"
 #include "io/file_util.h"
 
 namespace motionfork::app {
@@ -71,9 +71,10 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
   for (const auto& grp : ds.groups) total += grp.second;
 
   std::printf("protocol:  %s (%s)\n", p.name.c_str(), p.path.c_str());
-  std::printf("           %.6g Hz, t_his %d + t_pred %d = %d frames, root %s, skeleton %s (%d joints)\n",
-              p.fps, p.t_his, p.t_pred, p.window_length(), ToString(p.root),
-              ds.skeleton.skeleton->name().c_str(), ds.skeleton.skeleton->num_joints());
+  std::printf(
+      "           %.6g Hz, t_his %d + t_pred %d = %d frames, root %s, skeleton %s (%d joints)\n",
+      p.fps, p.t_his, p.t_pred, p.window_length(), ToString(p.root),
+      ds.skeleton.skeleton->name().c_str(), ds.skeleton.skeleton->num_joints());
   std::printf("data:      %s (%s in %s)\n", o.data.c_str(),
               ds.from_cache ? "from the cache" : "parsed", Duration(ds.seconds_reading).c_str());
   std::printf("sources:  ");
@@ -95,11 +96,12 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
                 WithThousands(s.test_windows).c_str(), WithThousands(s.train_windows).c_str());
   }
   std::printf("\ntest windows: stride %d, %s; train windows: every start (random sampling)\n",
-              p.test_stride, p.test_include_last ? "last start included" : "DLow's rule (last start excluded)");
+              p.test_stride,
+              p.test_include_last ? "last start included" : "DLow's rule (last start excluded)");
   for (int k = 0; k < 2; ++k) {
     for (const auto& [reason, n] : stats[k].skipped) {
-      std::printf("skipped (%s): %s clips %s\n", k == 0 ? "train" : "test", WithThousands(n).c_str(),
-                  reason.c_str());
+      std::printf("skipped (%s): %s clips %s\n", k == 0 ? "train" : "test",
+                  WithThousands(n).c_str(), reason.c_str());
     }
   }
   for (const auto& [reason, n] : skipped_unsplit) {
@@ -111,19 +113,21 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
   }
   if (!o.json.empty()) {
     std::string j = "{\"protocol\": \"" + p.name + "\", \"fps\": " + std::to_string(p.fps) +
-                    ", \"t_his\": " + std::to_string(p.t_his) + ", \"t_pred\": " +
-                    std::to_string(p.t_pred) + ", \"clips\": " + std::to_string(total) +
-                    ", \"sources\": {";
+                    ", \"t_his\": " + std::to_string(p.t_his) +
+                    ", \"t_pred\": " + std::to_string(p.t_pred) +
+                    ", \"clips\": " + std::to_string(total) + ", \"sources\": {";
     for (size_t i = 0; i < ds.groups.size(); ++i) {
       j += (i ? ", \"" : "\"") + ds.groups[i].first + "\": " + std::to_string(ds.groups[i].second);
     }
     j += "}";
     for (int k = 0; k < 2; ++k) {
       const SplitStats& s = stats[k];
-      j += std::string(", \"") + (k == 0 ? "train" : "test") + "\": {\"clips\": " +
-           std::to_string(s.clips_listed) + ", \"usable\": " + std::to_string(s.usable) +
-           ", \"frames\": " + std::to_string(s.frames) + ", \"test_windows\": " +
-           std::to_string(s.test_windows) + ", \"train_windows\": " + std::to_string(s.train_windows) +
+      j += std::string(", \"") + (k == 0 ? "train" : "test") +
+           "\": {\"clips\": " + std::to_string(s.clips_listed) +
+           ", \"usable\": " + std::to_string(s.usable) +
+           ", \"frames\": " + std::to_string(s.frames) +
+           ", \"test_windows\": " + std::to_string(s.test_windows) +
+           ", \"train_windows\": " + std::to_string(s.train_windows) +
            ", \"skipped\": " + std::to_string(s.clips_listed - s.usable) + "}";
     }
     j += ", \"split_missing\": " + std::to_string(ds.split_missing.size()) + "}\n";
@@ -138,13 +142,16 @@ void AddDatasetCommand(CLI::App& app, GlobalOptions& global) {
   dataset->require_subcommand(1);
   auto o = std::make_shared<StatsOptions>();
   CLI::App* stats = dataset->add_subcommand(
-      "stats", "Clips, frames and windows per split of a data folder under a protocol.\n"
-               "The first run parses the files and writes a cache; later runs read the cache.");
-  stats->add_option("--protocol", o->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
+      "stats",
+      "Clips, frames and windows per split of a data folder under a protocol.\n"
+      "The first run parses the files and writes a cache; later runs read the cache.");
+  stats
+      ->add_option("--protocol", o->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  stats->add_option("--data", o->data,
-                    "Data folder (Bandai: the folder with the .tar.xz archives or unpacked .bvh; "
-                    "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)")
+  stats
+      ->add_option("--data", o->data,
+                   "Data folder (Bandai: the folder with the .tar.xz archives or unpacked .bvh; "
+                   "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)")
       ->required()
       ->check(CLI::ExistingDirectory);
   stats->add_option("--split", o->split_file, "Split file overriding the protocol's split.file");

@@ -48,16 +48,21 @@ struct DenoiseFlags {
 
 void AddDenoiseFlags(CLI::App* cmd, DenoiseFlags* f) {
   cmd->add_option("--mode", f->mode,
-                  "regression (one pass of the fine-tuned encoder) or optimisation (Adam steps on the sequence's\n"
+                  "regression (one pass of the fine-tuned encoder) or optimisation (Adam steps on "
+                  "the sequence's\n"
                   "own loss first); default: the bundle's")
       ->check(CLI::IsMember({"regression", "optimisation", "optimization"}));
-  cmd->add_option("--iterations", f->iterations, "Optimisation mode: Adam steps (default: the bundle's, 50)")
+  cmd->add_option("--iterations", f->iterations,
+                  "Optimisation mode: Adam steps (default: the bundle's, 50)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--samples", f->samples, "Posterior draws averaged; 0 = posterior means (default: the bundle's)")
+  cmd->add_option("--samples", f->samples,
+                  "Posterior draws averaged; 0 = posterior means (default: the bundle's)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--seed", f->seed, "Seed of the posterior draws (default: the bundle's)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", f->seed, "Seed of the posterior draws (default: the bundle's)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--output", f->output,
-                  "fused (the paper's: decoder and input weighted by their variances) or decoder (the decoder's\n"
+                  "fused (the paper's: decoder and input weighted by their variances) or decoder "
+                  "(the decoder's\n"
                   "frames alone, smoother); default: the bundle's")
       ->check(CLI::IsMember({"fused", "decoder"}));
 }
@@ -75,10 +80,11 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   PinThreads(o.threads);
   const DvaeModel model = DvaeModel::Load(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in =
-      LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton, model.manifest().fps, {}, 0);
+  const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
+                                               model.manifest().fps, {}, 0);
   if (std::find(in.missing.begin(), in.missing.end(), 1) != in.missing.end()) {
-    throw FormatError(o.motion + ": has missing values; fill them first ('motionfork impute'), then denoise");
+    throw FormatError(o.motion +
+                      ": has missing values; fill them first ('motionfork impute'), then denoise");
   }
   Motion motion = in.motion;
   if (!o.noise.empty()) {
@@ -92,7 +98,9 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
     std::printf("added %s noise (seed %llu) before denoising\n", o.noise.c_str(),
                 static_cast<unsigned long long>(o.noise_seed));
   }
-  if (motion.num_frames() < 2) throw FormatError(o.motion + ": expected at least 2 frames, found " + std::to_string(motion.num_frames()));
+  if (motion.num_frames() < 2)
+    throw FormatError(o.motion + ": expected at least 2 frames, found " +
+                      std::to_string(motion.num_frames()));
   const DenoiseOptions options = o.flags.Apply(model.manifest().denoise);
   DenoiseStats stats;
   Motion out;
@@ -105,11 +113,15 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   }
   WriteMotionFile(o.out, out);
   const double moved = MeanJointError(motion.positions(), out.positions());
-  std::printf("denoised %d frames (%d window%s of <= %d frames, %s mode%s) in %.3f s (%.0f frames/s); "
-              "mean change %.2f cm per joint\n",
-              out.num_frames(), stats.windows, stats.windows == 1 ? "" : "s", model.window(), ToString(options.mode),
-              options.mode == DenoiseMode::kOptimisation ? (", " + std::to_string(options.iterations) + " iterations").c_str() : "",
-              stats.seconds, out.num_frames() / std::max(1e-9, stats.seconds), 100 * moved);
+  std::printf(
+      "denoised %d frames (%d window%s of <= %d frames, %s mode%s) in %.3f s (%.0f frames/s); "
+      "mean change %.2f cm per joint\n",
+      out.num_frames(), stats.windows, stats.windows == 1 ? "" : "s", model.window(),
+      ToString(options.mode),
+      options.mode == DenoiseMode::kOptimisation
+          ? (", " + std::to_string(options.iterations) + " iterations").c_str()
+          : "",
+      stats.seconds, out.num_frames() / std::max(1e-9, stats.seconds), 100 * moved);
   if (!o.noise.empty()) {
     std::printf("against the file before --add-noise: noisy %.2f cm, denoised %.2f cm per joint\n",
                 100 * MeanJointError(motion.positions(), in.motion.positions()),
@@ -125,8 +137,8 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
 // ---- dvae eval ----
 struct EvalCmd {
   std::string model, data, split_file, forecaster, json_out;
-  std::vector<std::string> noises = {"gaussian:0.02", "gaussian:0.05", "gaussian:0.10", "outliers:0.1,0.3",
-                                     "outliers:0.05,0.5", "jitter:0.05"};
+  std::vector<std::string> noises = {"gaussian:0.02",    "gaussian:0.05",     "gaussian:0.10",
+                                     "outliers:0.1,0.3", "outliers:0.05,0.5", "jitter:0.05"};
   int clips = 200, optimisation_clips = 20, forecast_windows = 300, k = 50, threads = 1;
   double smooth_sigma = 2.0;
   uint64_t seed = 0;
@@ -137,8 +149,8 @@ struct Figures {
   double err = 0, accel = 0;
 };
 
-Figures Measure(const std::vector<std::vector<float>>& out, const std::vector<std::vector<float>>& clean, int J,
-                double fps) {
+Figures Measure(const std::vector<std::vector<float>>& out,
+                const std::vector<std::vector<float>>& clean, int J, double fps) {
   Figures f;
   double frames = 0;
   for (size_t c = 0; c < out.size(); ++c) {
@@ -157,8 +169,10 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   const DvaeModel model = DvaeModel::Load(o.model);
   const DvaeManifest& m = model.manifest();
   const std::string config_dir = ConfigDir(g.config_dir);
-  const ProtocolOptions protocol = LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", m.protocol));
-  const SkeletonConfig skeleton = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
+  const ProtocolOptions protocol =
+      LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", m.protocol));
+  const SkeletonConfig skeleton =
+      LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
   const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   const int J = model.joints();
   const double fps = m.fps;
@@ -166,7 +180,9 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   if (test.empty()) throw std::invalid_argument(o.data + ": the protocol's test split is empty");
   std::vector<std::vector<float>> clean;
   for (int i = 0; i < std::min<int>(o.clips, static_cast<int>(test.size())); ++i) {
-    clean.push_back(ds.clips[test[static_cast<size_t>(i) * test.size() / std::min<int>(o.clips, static_cast<int>(test.size()))]].motion.positions());
+    clean.push_back(ds.clips[test[static_cast<size_t>(i) * test.size() /
+                                  std::min<int>(o.clips, static_cast<int>(test.size()))]]
+                        .motion.positions());
   }
   const int opt_clips = std::min<int>(o.optimisation_clips, static_cast<int>(clean.size()));
   size_t frames = 0, opt_frames = 0;
@@ -179,13 +195,18 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   reg.mode = DenoiseMode::kRegression;
   DenoiseOptions opt = reg;
   opt.mode = DenoiseMode::kOptimisation;
-  std::printf("Motion-DVAE %s (%s parameters%s), %zu test clips (%s frames, style '%s' unseen in training);\n"
-              "clean acceleration %.2f m/s^2; %d posterior draws; optimisation mode on the first %d clips (%s frames), %d iterations\n",
-              o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.finetuned ? ", fine-tuned on noisy data" : ", prior only",
-              clean.size(), WithThousands(frames).c_str(), ds.clips[test[0]].subject.c_str(), clean_accel, reg.samples,
-              opt_clips, WithThousands(opt_frames).c_str(), opt.iterations);
-  std::printf("\n%-18s %9s %9s %8s %9s %9s %8s   accel / clean: noisy  smooth  denoised  optimised\n", "noise (cm error)",
-              "noisy", "smooth", "denoised", "removed", "optimised", "removed");
+  std::printf(
+      "Motion-DVAE %s (%s parameters%s), %zu test clips (%s frames, style '%s' unseen in "
+      "training);\n"
+      "clean acceleration %.2f m/s^2; %d posterior draws; optimisation mode on the first %d clips "
+      "(%s frames), %d iterations\n",
+      o.model.c_str(), WithThousands(model.num_parameters()).c_str(),
+      m.finetuned ? ", fine-tuned on noisy data" : ", prior only", clean.size(),
+      WithThousands(frames).c_str(), ds.clips[test[0]].subject.c_str(), clean_accel, reg.samples,
+      opt_clips, WithThousands(opt_frames).c_str(), opt.iterations);
+  std::printf(
+      "\n%-18s %9s %9s %8s %9s %9s %8s   accel / clean: noisy  smooth  denoised  optimised\n",
+      "noise (cm error)", "noisy", "smooth", "denoised", "removed", "optimised", "removed");
   json rows = json::array();
   double reg_seconds = 0, opt_seconds = 0;
   ProgressBar bar("noise settings", !g.quiet);
@@ -214,39 +235,62 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
       std::snprintf(buf, sizeof(buf), format, v);
       return std::isfinite(v) ? std::string(buf) : std::string("-");
     };
-    std::printf("%-18s %9.2f %9.2f %8.2f %9s %9s %8s   %19.2f %7.2f %9.2f %10s\n", o.noises[n].c_str(), 100 * fn.err,
-                100 * fs.err, 100 * fd.err, num(100 * removed, "%.1f%%").c_str(), num(100 * fo.err, "%.2f").c_str(),
-                num(100 * removed_opt, "%.1f%%").c_str(), fn.accel / clean_accel, fs.accel / clean_accel,
-                fd.accel / clean_accel, num(fo.accel / clean_accel, "%.2f").c_str());
+    std::printf("%-18s %9.2f %9.2f %8.2f %9s %9s %8s   %19.2f %7.2f %9.2f %10s\n",
+                o.noises[n].c_str(), 100 * fn.err, 100 * fs.err, 100 * fd.err,
+                num(100 * removed, "%.1f%%").c_str(), num(100 * fo.err, "%.2f").c_str(),
+                num(100 * removed_opt, "%.1f%%").c_str(), fn.accel / clean_accel,
+                fs.accel / clean_accel, fd.accel / clean_accel,
+                num(fo.accel / clean_accel, "%.2f").c_str());
     std::fflush(stdout);
-    rows.push_back({{"noise", o.noises[n]}, {"noisy_cm", 100 * fn.err}, {"smooth_cm", 100 * fs.err},
-                    {"denoised_cm", 100 * fd.err}, {"removed", removed}, {"optimised_cm", 100 * fo.err},
-                    {"optimised_noisy_cm", 100 * fon.err}, {"removed_optimised", removed_opt},
+    rows.push_back({{"noise", o.noises[n]},
+                    {"noisy_cm", 100 * fn.err},
+                    {"smooth_cm", 100 * fs.err},
+                    {"denoised_cm", 100 * fd.err},
+                    {"removed", removed},
+                    {"optimised_cm", 100 * fo.err},
+                    {"optimised_noisy_cm", 100 * fon.err},
+                    {"removed_optimised", removed_opt},
                     {"smooth_removed", 1 - fs.err / fn.err},
-                    {"accel_ratio_noisy", fn.accel / clean_accel}, {"accel_ratio_smooth", fs.accel / clean_accel},
-                    {"accel_ratio_denoised", fd.accel / clean_accel}, {"accel_ratio_optimised", fo.accel / clean_accel}});
+                    {"accel_ratio_noisy", fn.accel / clean_accel},
+                    {"accel_ratio_smooth", fs.accel / clean_accel},
+                    {"accel_ratio_denoised", fd.accel / clean_accel},
+                    {"accel_ratio_optimised", fo.accel / clean_accel}});
     bar.Update(double(n + 1) / o.noises.size());
   }
   bar.Finish();
-  const double reg_fps = frames * o.noises.size() / reg_seconds, opt_fps = opt_frames * o.noises.size() / opt_seconds;
-  std::printf("(smooth: Gaussian over time, sigma %.3g frames, a baseline; optimised: on the first %d clips, against\n"
-              "their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
-              o.smooth_sigma, opt_clips, o.threads, reg_fps);
-  if (opt_clips > 0) std::printf(", optimisation %.0f frames/s (%d iterations per sequence)", opt_fps, opt.iterations);
+  const double reg_fps = frames * o.noises.size() / reg_seconds,
+               opt_fps = opt_frames * o.noises.size() / opt_seconds;
+  std::printf(
+      "(smooth: Gaussian over time, sigma %.3g frames, a baseline; optimised: on the first %d "
+      "clips, against\n"
+      "their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
+      o.smooth_sigma, opt_clips, o.threads, reg_fps);
+  if (opt_clips > 0)
+    std::printf(", optimisation %.0f frames/s (%d iterations per sequence)", opt_fps,
+                opt.iterations);
   std::printf("\n");
-  json j = {{"model", o.model}, {"clips", clean.size()}, {"frames", frames}, {"clean_accel", clean_accel},
-            {"samples", reg.samples}, {"iterations", opt.iterations}, {"optimisation_clips", opt_clips},
-            {"regression_frames_per_s", reg_fps}, {"settings", rows}};
+  json j = {{"model", o.model},
+            {"clips", clean.size()},
+            {"frames", frames},
+            {"clean_accel", clean_accel},
+            {"samples", reg.samples},
+            {"iterations", opt.iterations},
+            {"optimisation_clips", opt_clips},
+            {"regression_frames_per_s", reg_fps},
+            {"settings", rows}};
   if (opt_clips > 0) j["optimisation_frames_per_s"] = opt_fps;
 
   // Downstream: forecasting from noisy vs denoised histories. Each history is denoised with the
   // window() frames that end with it (no future frame is seen).
   if (!o.forecaster.empty()) {
     const Forecaster fc = Forecaster::Load(o.forecaster);
-    if (fc.config().generator.t_his != protocol.t_his || fc.skeleton()->joint_names() != model.skeleton().joint_names()) {
-      throw std::invalid_argument(o.forecaster + ": the forecaster's history (" + std::to_string(fc.config().generator.t_his) +
-                                  " frames, skeleton '" + fc.skeleton()->name() + "') does not match the protocol '" +
-                                  protocol.name + "' of the Motion-DVAE");
+    if (fc.config().generator.t_his != protocol.t_his ||
+        fc.skeleton()->joint_names() != model.skeleton().joint_names()) {
+      throw std::invalid_argument(o.forecaster + ": the forecaster's history (" +
+                                  std::to_string(fc.config().generator.t_his) +
+                                  " frames, skeleton '" + fc.skeleton()->name() +
+                                  "') does not match the protocol '" + protocol.name +
+                                  "' of the Motion-DVAE");
     }
     std::vector<const Clip*> test_clips;
     for (int c : test) test_clips.push_back(&ds.clips[c]);
@@ -280,8 +324,9 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
       const std::vector<float> pred = fc.PredictRootRelative(histories, H, req);
       double ade = 0, fde = 0;
       for (int i = 0; i < H; ++i) {
-        const Displacement d = MinDisplacement(pred.data() + static_cast<size_t>(i) * o.k * P * D, o.k, P, D,
-                                               fut.data() + static_cast<size_t>(i) * P * D);
+        const Displacement d =
+            MinDisplacement(pred.data() + static_cast<size_t>(i) * o.k * P * D, o.k, P, D,
+                            fut.data() + static_cast<size_t>(i) * P * D);
         ade += d.ade;
         fde += d.fde;
       }
@@ -295,8 +340,10 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
                             p.begin() + static_cast<size_t>(ts.windows[w].start + T) * J * 3);
     }
     const auto clean_fc = score(to_history(contexts));
-    std::printf("\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE, clean history %.3f / %.3f\n",
-                o.forecaster.c_str(), o.k, H, clean_fc.first, clean_fc.second);
+    std::printf(
+        "\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE, clean history "
+        "%.3f / %.3f\n",
+        o.forecaster.c_str(), o.k, H, clean_fc.first, clean_fc.second);
     json fcj = json::array();
     for (size_t n = 0; n < o.noises.size(); ++n) {
       const NoiseSpec spec = ParseNoiseSpec(o.noises[n]);
@@ -305,13 +352,21 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
       for (auto& q : noisy) AddNoise(spec, q.data(), static_cast<int>(q.size() / (3 * J)), J, rng);
       const auto noisy_fc = score(to_history(noisy));
       const auto den_fc = score(to_history(model.Denoise(noisy, reg)));
-      std::printf("  %-18s noisy %.3f / %.3f   denoised %.3f / %.3f\n", o.noises[n].c_str(), noisy_fc.first,
-                  noisy_fc.second, den_fc.first, den_fc.second);
-      fcj.push_back({{"noise", o.noises[n]}, {"ade_noisy", noisy_fc.first}, {"fde_noisy", noisy_fc.second},
-                     {"ade_denoised", den_fc.first}, {"fde_denoised", den_fc.second}});
+      std::printf("  %-18s noisy %.3f / %.3f   denoised %.3f / %.3f\n", o.noises[n].c_str(),
+                  noisy_fc.first, noisy_fc.second, den_fc.first, den_fc.second);
+      fcj.push_back({{"noise", o.noises[n]},
+                     {"ade_noisy", noisy_fc.first},
+                     {"fde_noisy", noisy_fc.second},
+                     {"ade_denoised", den_fc.first},
+                     {"fde_denoised", den_fc.second}});
     }
-    j["forecasting"] = {{"forecaster", o.forecaster}, {"k", o.k}, {"windows", H}, {"repair", false},
-                        {"ade_clean", clean_fc.first}, {"fde_clean", clean_fc.second}, {"settings", fcj}};
+    j["forecasting"] = {{"forecaster", o.forecaster},
+                        {"k", o.k},
+                        {"windows", H},
+                        {"repair", false},
+                        {"ade_clean", clean_fc.first},
+                        {"fde_clean", clean_fc.second},
+                        {"settings", fcj}};
   }
   if (!o.json_out.empty()) WriteFileAtomically(o.json_out, j.dump(2) + "\n");
 }
@@ -324,11 +379,16 @@ void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
       "denoise",
       "Denoise a motion file (estimated, noisy joint positions) with a Motion-DVAE bundle, e.g.\n"
       "models/bandai/dvae. Windows of the model's length every 'stride' frames, blended.");
-  cmd->add_option("--model", d->model, "Motion-DVAE bundle folder")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--motion", d->motion, "Motion file (.npy, .csv, .bvh, .npz)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--model", d->model, "Motion-DVAE bundle folder")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--motion", d->motion, "Motion file (.npy, .csv, .bvh, .npz)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", d->out, "Output motion file (format from the extension)")->required();
-  cmd->add_option("--add-noise", d->noise,
-                  "Corrupt the input first (a test): gaussian:S, outliers:P,S or jitter:S (metres)");
+  cmd->add_option(
+      "--add-noise", d->noise,
+      "Corrupt the input first (a test): gaussian:S, outliers:P,S or jitter:S (metres)");
   cmd->add_option("--noise-seed", d->noise_seed, "Seed of --add-noise (default 0)");
   cmd->add_option("--threads", d->threads, "Threads (default 1)")->check(CLI::PositiveNumber);
   AddDenoiseFlags(cmd, &d->flags);
@@ -338,22 +398,36 @@ void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
 
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
   auto e = std::make_shared<EvalCmd>();
-  CLI::App* cmd = dvae.add_subcommand(
-      "eval",
-      "Denoising figures on a protocol's test split: error of noisy, smoothed (baseline), denoised\n"
-      "(regression mode) and optimised (optimisation mode) motion against the clean one for each noise\n"
-      "kind, acceleration against the clean motion's, speed, and with --forecaster the forecasting\n"
-      "ADE/FDE from noisy and denoised histories.");
-  cmd->add_option("--model", e->model, "Motion-DVAE bundle folder")->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--data", e->data, "Data folder of the bundle's protocol")->required()->check(CLI::ExistingDirectory);
+  CLI::App* cmd = dvae.add_subcommand("eval",
+                                      "Denoising figures on a protocol's test split: error of "
+                                      "noisy, smoothed (baseline), denoised\n"
+                                      "(regression mode) and optimised (optimisation mode) motion "
+                                      "against the clean one for each noise\n"
+                                      "kind, acceleration against the clean motion's, speed, and "
+                                      "with --forecaster the forecasting\n"
+                                      "ADE/FDE from noisy and denoised histories.");
+  cmd->add_option("--model", e->model, "Motion-DVAE bundle folder")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--data", e->data, "Data folder of the bundle's protocol")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--split", e->split_file, "Split file overriding the protocol's");
-  cmd->add_option("--noise", e->noises, "Noise kinds (repeatable; default: gaussian 2/5/10 cm, two outlier settings, jitter 5 cm)");
-  cmd->add_option("--clips", e->clips, "Test clips used, spread evenly (default 200)")->check(CLI::PositiveNumber);
-  cmd->add_option("--optimisation-clips", e->optimisation_clips, "Of those, how many optimisation mode runs on (default 20)")
+  cmd->add_option(
+      "--noise", e->noises,
+      "Noise kinds (repeatable; default: gaussian 2/5/10 cm, two outlier settings, jitter 5 cm)");
+  cmd->add_option("--clips", e->clips, "Test clips used, spread evenly (default 200)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--optimisation-clips", e->optimisation_clips,
+                  "Of those, how many optimisation mode runs on (default 20)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--smooth-sigma", e->smooth_sigma, "Baseline's Gaussian sigma in frames (default 2)")->check(CLI::PositiveNumber);
-  cmd->add_option("--forecaster", e->forecaster, "Generator bundle for the downstream figures (e.g. models/bandai)");
-  cmd->add_option("--forecast-windows", e->forecast_windows, "Protocol test windows forecast (default 300)")
+  cmd->add_option("--smooth-sigma", e->smooth_sigma,
+                  "Baseline's Gaussian sigma in frames (default 2)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--forecaster", e->forecaster,
+                  "Generator bundle for the downstream figures (e.g. models/bandai)");
+  cmd->add_option("--forecast-windows", e->forecast_windows,
+                  "Protocol test windows forecast (default 300)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("-k", e->k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
   cmd->add_option("--threads", e->threads, "Threads (default 1)")->check(CLI::PositiveNumber);

@@ -13,18 +13,18 @@
 #include <vector>
 
 #include "app_common.h"
-#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "dataset/dataset.h"
+#include "dataset_loading.h"
 #include "eval/baselines.h"
-#include "generator/forecaster.h"
-#include "generator/generator_predictor.h"
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
+#include "generator/forecaster.h"
+#include "generator/generator_predictor.h"
 #include "io/file_util.h"
 #include "validity/pose_validator.h"
 
@@ -67,28 +67,34 @@ void AddScorers(const EvalCommandOptions& o, const ProtocolOptions& p,
                 Scorers* out) {
   namespace fs = std::filesystem;
   std::string constraints = o.constraints;
-  if (constraints.empty() && fs::is_regular_file(fs::path(config_dir) / "constraints" / (p.name + ".yaml"))) {
+  if (constraints.empty() &&
+      fs::is_regular_file(fs::path(config_dir) / "constraints" / (p.name + ".yaml"))) {
     constraints = p.name;
   }
-  const std::string constraints_path = !constraints.empty() && constraints != "none"
-                                           ? ResolveConfigPath(config_dir, "constraints", constraints)
-                                           : "";
+  const std::string constraints_path =
+      !constraints.empty() && constraints != "none"
+          ? ResolveConfigPath(config_dir, "constraints", constraints)
+          : "";
   std::string prior = o.prior;
-  const fs::path shipped = fs::path(MOTIONFORK_CONFIG_DIR).parent_path() / "models" / ("prior-" + p.name);
+  const fs::path shipped =
+      fs::path(MOTIONFORK_CONFIG_DIR).parent_path() / "models" / ("prior-" + p.name);
   if (prior.empty() && fs::is_directory(shipped)) prior = shipped.string();
   if (prior == "none") prior.clear();
   out->validator = std::make_unique<PoseValidator>(skeleton, p.fps, constraints_path, prior);
   const PoseValidator* v = out->validator.get();
-  auto copy = [](const std::vector<double>& from, double* to) { std::copy(from.begin(), from.end(), to); };
+  auto copy = [](const std::vector<double>& from, double* to) {
+    std::copy(from.begin(), from.end(), to);
+  };
   if (v->has_constraints()) {
-    out->list.push_back(FrameScorer{"angle_violation_rate", [v, copy](const float* pos, int n, double* scores) {
-                                      copy(v->ViolationFlags(pos, n), scores);
-                                    }});
+    out->list.push_back(
+        FrameScorer{"angle_violation_rate", [v, copy](const float* pos, int n, double* scores) {
+                      copy(v->ViolationFlags(pos, n), scores);
+                    }});
   }
   if (v->has_prior()) {
-    out->list.push_back(FrameScorer{"prior_nll", [v, copy](const float* pos, int n, double* scores) {
-                                      copy(v->PriorNll(pos, n), scores);
-                                    }});
+    out->list.push_back(FrameScorer{
+        "prior_nll",
+        [v, copy](const float* pos, int n, double* scores) { copy(v->PriorNll(pos, n), scores); }});
   }
   out->described = v->described();
 }
@@ -161,15 +167,16 @@ std::unique_ptr<Predictor> MakePredictor(const EvalCommandOptions& o, const Prot
     const ModelConfig& mc = f.config();
     if (!f.skeleton()->SameStructure(*skeleton) || mc.generator.t_his != p.t_his ||
         mc.generator.t_pred != p.t_pred) {
-      throw std::invalid_argument("--model " + o.model + " was trained for protocol '" + mc.protocol +
-                                  "' (skeleton '" + f.skeleton()->name() + "', t_his " +
-                                  std::to_string(mc.generator.t_his) + ", t_pred " +
-                                  std::to_string(mc.generator.t_pred) + "), not for '" + p.name +
-                                  "' (skeleton '" + skeleton->name() + "', t_his " + std::to_string(p.t_his) +
-                                  ", t_pred " + std::to_string(p.t_pred) + ")");
+      throw std::invalid_argument(
+          "--model " + o.model + " was trained for protocol '" + mc.protocol + "' (skeleton '" +
+          f.skeleton()->name() + "', t_his " + std::to_string(mc.generator.t_his) + ", t_pred " +
+          std::to_string(mc.generator.t_pred) + "), not for '" + p.name + "' (skeleton '" +
+          skeleton->name() + "', t_his " + std::to_string(p.t_his) + ", t_pred " +
+          std::to_string(p.t_pred) + ")");
     }
     const std::string name = mc.info.count("config") ? mc.info.at("config") : std::string("model");
-    return std::make_unique<GeneratorPredictor>(std::move(f), name, GeneratorBundleHash(o.model), !o.no_repair);
+    return std::make_unique<GeneratorPredictor>(std::move(f), name, GeneratorBundleHash(o.model),
+                                                !o.no_repair);
   }
   const std::string name = CanonicalBaseline(o.baseline);
   if (name == "zero-velocity") {
@@ -210,7 +217,8 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
   }
   // Fail before loading anything.
   if (!o.model.empty()) Forecaster::Load(o.model);
-  if (!o.baseline.empty() && CanonicalBaseline(o.baseline) == "nearest-neighbours" && o.data.empty()) {
+  if (!o.baseline.empty() && CanonicalBaseline(o.baseline) == "nearest-neighbours" &&
+      o.data.empty()) {
     throw std::invalid_argument(
         "--baseline nearest-neighbours needs --data DIR: its training "
         "clips are the protocol's train split");
@@ -307,7 +315,8 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
   Scorers scorers;
   AddScorers(o, protocol, ts.skeleton, ConfigDir(g.config_dir), &scorers);
   eval.scorers = scorers.list;
-  if (!scorers.described.empty()) std::printf("plausibility figures: %s\n", scorers.described.c_str());
+  if (!scorers.described.empty())
+    std::printf("plausibility figures: %s\n", scorers.described.c_str());
   EvalResult r;
   {
     ProgressBar bar("evaluating " + predictor->name(), !g.quiet);
@@ -436,18 +445,20 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::ExistingDirectory);
   cmd->add_option("-k,--samples", o->k, "Samples per history (K, >= 2)");
   cmd->add_option("--seed", o->seed, "Seed (window i uses a mix of it and i)");
-  cmd->add_option("--constraints", o->constraints,
-                  "Constraint set for the angle-violation rate (default: the protocol's shipped set; "
-                  "'none' to skip)");
+  cmd->add_option(
+      "--constraints", o->constraints,
+      "Constraint set for the angle-violation rate (default: the protocol's shipped set; "
+      "'none' to skip)");
   cmd->add_option("--prior", o->prior,
                   "Prior bundle for the prior NLL (default: models/prior-<protocol> when shipped; "
                   "'none' to skip)");
   cmd->add_option("--fix", o->fix,
                   "Controllable setting: a part of the skeleton's default partition (e.g. legs) "
                   "that every sample shares; reports the APD of the varied and the fixed joints");
-  cmd->add_flag("--no-repair", o->no_repair,
-                "With --model: score the network's raw futures, without moving poses that break the "
-                "bundle's angle ranges back inside them");
+  cmd->add_flag(
+      "--no-repair", o->no_repair,
+      "With --model: score the network's raw futures, without moving poses that break the "
+      "bundle's angle ranges back inside them");
   cmd->add_option("--json", o->json, "Also write every figure to this JSON file");
   cmd->callback([o, &global] { RunEval(*o, global); });
 }

@@ -33,8 +33,9 @@ Motion SampleMotion(const Prediction& p, const std::string& path, int k) {
     if (std::isfinite(v[i])) continue;
     const int t = static_cast<int>(i / (3 * J)), j = static_cast<int>(i / 3 % J);
     throw FormatError(FormatMessage(
-        path, "sample " + std::to_string(k) + ", frame " + std::to_string(t) +
-                  (t < p.t_his ? " (history)" : " (future frame " + std::to_string(t - p.t_his) + ")"),
+        path,
+        "sample " + std::to_string(k) + ", frame " + std::to_string(t) +
+            (t < p.t_his ? " (history)" : " (future frame " + std::to_string(t - p.t_his) + ")"),
         "joint '" + p.skeleton->joint_name(j) + "' has a non-finite position (" +
             std::to_string(v[i]) + "); expected finite metres"));
   }
@@ -97,10 +98,11 @@ void RunExport(const ExportOptions& o) {
   }
   for (const Output& out : outputs) {
     WriteFileAtomically(out.path, out.text);
-    std::printf("wrote %s: sample %d, %d frames (%d history + %d future) at %.6g Hz, %d joints; "
-                "largest joint displacement from the prediction %.3f mm\n",
-                out.path.c_str(), out.sample, p.frames(), p.t_his, p.t_pred, p.fps, p.joints(),
-                out.deviation * 1000);
+    std::printf(
+        "wrote %s: sample %d, %d frames (%d history + %d future) at %.6g Hz, %d joints; "
+        "largest joint displacement from the prediction %.3f mm\n",
+        out.path.c_str(), out.sample, p.frames(), p.t_his, p.t_pred, p.fps, p.joints(),
+        out.deviation * 1000);
   }
 }
 
@@ -114,13 +116,16 @@ void AddExportCommand(CLI::App& app, GlobalOptions& /*global*/) {
       "Each file holds one sample: the history, then that future. Every sample by default\n"
       "(OUT_00.bvh .. OUT_{K-1}.bvh), or one with --sample. The rest pose is the sample's mean\n"
       "pose; bones keep their mean lengths (--lengths mean), so joints move by as much as the\n"
-      "prediction's bone lengths wobble (the figure printed per file); --lengths exact keeps every\n"
+      "prediction's bone lengths wobble (the figure printed per file); --lengths exact keeps "
+      "every\n"
       "position by giving stretching bones translation channels. Check a file in Blender with\n"
       "tools/blender_check_bvh.py.");
-  cmd->add_option("PREDICTION", o->prediction, "Prediction written by 'motionfork predict' (.json or .npy)")
+  cmd->add_option("PREDICTION", o->prediction,
+                  "Prediction written by 'motionfork predict' (.json or .npy)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", o->out, "Output path ending in .bvh; written all-or-nothing")->required();
+  cmd->add_option("-o,--out", o->out, "Output path ending in .bvh; written all-or-nothing")
+      ->required();
   cmd->add_option("--sample", o->sample, "Only this sample (0-based), written to OUT itself")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--lengths", o->lengths,
@@ -128,8 +133,9 @@ void AddExportCommand(CLI::App& app, GlobalOptions& /*global*/) {
                   "default); exact: bones whose length varies get translation channels, so every "
                   "position is kept")
       ->check(CLI::IsMember({"mean", "exact"}));
-  cmd->add_option("--scale", o->bvh.scale_to_metres,
-                  "File length unit in metres (default 0.01: centimetres, as most BVH files; 1: metres)")
+  cmd->add_option(
+         "--scale", o->bvh.scale_to_metres,
+         "File length unit in metres (default 0.01: centimetres, as most BVH files; 1: metres)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rotation-order", o->bvh.rotation_order,
                   "Axis order of every joint's rotation channels (default ZXY; e.g. ZYX, XYZ)");

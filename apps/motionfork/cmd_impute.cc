@@ -44,12 +44,14 @@ struct ImputeFlags {
 };
 
 void AddImputeFlags(CLI::App* cmd, ImputeFlags* f) {
-  cmd->add_option("--steps", f->steps, "Adam steps on the missing values (default: the bundle's, 10)")
+  cmd->add_option("--steps", f->steps,
+                  "Adam steps on the missing values (default: the bundle's, 10)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--lr", f->lr, "Adam step size on normalised coordinates (default: the bundle's)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--objective", f->objective,
-                  "posterior (the paper's sum over levels) or joint (+ log p(x|z)); default: the bundle's")
+  cmd->add_option(
+         "--objective", f->objective,
+         "posterior (the paper's sum over levels) or joint (+ log p(x|z)); default: the bundle's")
       ->check(CLI::IsMember({"posterior", "joint"}));
 }
 
@@ -77,7 +79,8 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
   WriteMotionFile(o.out, r.motion);
   const size_t total = in.missing.size();
   if (r.missing_values == 0) {
-    std::printf("no missing values in %s (no NaN, no --mask): wrote it unchanged to %s\n", o.motion.c_str(), o.out.c_str());
+    std::printf("no missing values in %s (no NaN, no --mask): wrote it unchanged to %s\n",
+                o.motion.c_str(), o.out.c_str());
     return;
   }
   double before = 0, after = 0;
@@ -89,14 +92,19 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
     ood_after += model.OutOfDistribution(r.score_after[w]);
   }
   const double n = static_cast<double>(r.window_starts.size());
-  std::printf("imputed %d of %zu values (%.1f%%) in %zu windows of %d frames (%d Adam steps, %s objective)\n",
-              r.missing_values, total, 100.0 * r.missing_values / total, r.window_starts.size(), model.window(),
-              options.steps, ToString(options.objective));
-  std::printf("%s score per window: %.1f with the training mean -> %.1f imputed (training windows: %.1f +- %.1f);"
-              " out of distribution: %d -> %d windows\n",
-              ToString(model.manifest().ood_score), before / n, after / n, model.manifest().score_mean,
-              model.manifest().score_std, ood_before, ood_after);
-  std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), r.motion.num_frames(), r.motion.fps());
+  std::printf(
+      "imputed %d of %zu values (%.1f%%) in %zu windows of %d frames (%d Adam steps, %s "
+      "objective)\n",
+      r.missing_values, total, 100.0 * r.missing_values / total, r.window_starts.size(),
+      model.window(), options.steps, ToString(options.objective));
+  std::printf(
+      "%s score per window: %.1f with the training mean -> %.1f imputed (training windows: %.1f +- "
+      "%.1f);"
+      " out of distribution: %d -> %d windows\n",
+      ToString(model.manifest().ood_score), before / n, after / n, model.manifest().score_mean,
+      model.manifest().score_std, ood_before, ood_after);
+  std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), r.motion.num_frames(),
+              r.motion.fps());
 }
 
 // ---- ood ----
@@ -109,37 +117,49 @@ struct OodCmd {
 void RunOod(const OodCmd& o, GlobalOptions& g) {
   const HgvaeModel model = HgvaeModel::Load(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in =
-      LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton, model.manifest().fps, {}, 0);
+  const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
+                                               model.manifest().fps, {}, 0);
   if (std::find(in.missing.begin(), in.missing.end(), 1) != in.missing.end()) {
-    throw FormatError(o.motion + ": has missing values; impute them first ('motionfork impute'), or score the "
-                                 "imputed file");
+    throw FormatError(o.motion +
+                      ": has missing values; impute them first ('motionfork impute'), or score the "
+                      "imputed file");
   }
   std::vector<WindowScore> scores;
   try {
-    scores = ScoreMotion(model, in.motion, o.stride > 0 ? o.stride : model.window(), model.ClassIndex(o.cls));
+    scores = ScoreMotion(model, in.motion, o.stride > 0 ? o.stride : model.window(),
+                         model.ClassIndex(o.cls));
   } catch (const std::invalid_argument& e) {
     throw FormatError(o.motion + ": " + e.what());
   }
   int flagged = 0;
-  std::printf("window  frames       score   %s\n", "out of distribution (threshold " +
-                                                        std::to_string(static_cast<int>(std::lround(model.OodThreshold()))) + ")");
+  std::printf("window  frames       score   %s\n",
+              "out of distribution (threshold " +
+                  std::to_string(static_cast<int>(std::lround(model.OodThreshold()))) + ")");
   json windows = json::array();
   for (const WindowScore& s : scores) {
     flagged += s.out_of_distribution;
-    std::printf("%6zu  %5d-%-5d %9.1f   %s\n", windows.size(), s.start, s.start + model.window() - 1, s.score,
-                s.out_of_distribution ? "yes" : "no");
-    windows.push_back({{"start", s.start}, {"frames", model.window()}, {"score", s.score},
+    std::printf("%6zu  %5d-%-5d %9.1f   %s\n", windows.size(), s.start,
+                s.start + model.window() - 1, s.score, s.out_of_distribution ? "yes" : "no");
+    windows.push_back({{"start", s.start},
+                       {"frames", model.window()},
+                       {"score", s.score},
                        {"out_of_distribution", s.out_of_distribution}});
   }
-  std::printf("%d of %zu windows out of distribution (%s score below the training windows' mean %.1f - %.3g x std %.1f)\n",
-              flagged, scores.size(), ToString(model.manifest().ood_score), model.manifest().score_mean,
-              model.manifest().ood_k, model.manifest().score_std);
+  std::printf(
+      "%d of %zu windows out of distribution (%s score below the training windows' mean %.1f - "
+      "%.3g x std %.1f)\n",
+      flagged, scores.size(), ToString(model.manifest().ood_score), model.manifest().score_mean,
+      model.manifest().ood_k, model.manifest().score_std);
   if (!o.json_out.empty()) {
-    const json j = {{"model", o.model}, {"motion", o.motion}, {"score", ToString(model.manifest().ood_score)},
+    const json j = {{"model", o.model},
+                    {"motion", o.motion},
+                    {"score", ToString(model.manifest().ood_score)},
                     {"threshold", model.OodThreshold()},
-                    {"score_mean", model.manifest().score_mean}, {"score_std", model.manifest().score_std},
-                    {"k", model.manifest().ood_k}, {"flagged", flagged}, {"windows", windows}};
+                    {"score_mean", model.manifest().score_mean},
+                    {"score_std", model.manifest().score_std},
+                    {"k", model.manifest().ood_k},
+                    {"flagged", flagged},
+                    {"windows", windows}};
     WriteFileAtomically(o.json_out, j.dump(2) + "\n");
   }
   g.exit_code = flagged > 0 ? 1 : 0;
@@ -165,9 +185,10 @@ void RunSample(const SampleCmd& o, const GlobalOptions&) {
     std::copy(w.begin() + f * N, w.begin() + (f + 1) * N, pos.begin() + f * J * 3 + 3);
   }
   WriteMotionFile(o.out, Motion(skeleton, model.manifest().fps, std::move(pos)));
-  std::printf("wrote %s: %d sample%s of %d frames (%.6g Hz) one after another%s, root at the origin\n", o.out.c_str(),
-              o.count, o.count == 1 ? "" : "s", T, model.manifest().fps,
-              ci >= 0 ? (", class '" + o.cls + "'").c_str() : "");
+  std::printf(
+      "wrote %s: %d sample%s of %d frames (%.6g Hz) one after another%s, root at the origin\n",
+      o.out.c_str(), o.count, o.count == 1 ? "" : "s", T, model.manifest().fps,
+      ci >= 0 ? (", class '" + o.cls + "'").c_str() : "");
 }
 
 // ---- hgvae eval ----
@@ -188,10 +209,12 @@ std::vector<float> TestWindows(const Dataset& ds, int window, int limit) {
     const std::vector<float> p = PoseVectorsWithoutRoot(ds.clips[c].motion);
     const int N = 3 * (ds.clips[c].motion.num_joints() - 1), T = ds.clips[c].motion.num_frames();
     for (int s = 0; s + window <= T; s += window, ++count) {
-      all.insert(all.end(), p.begin() + static_cast<size_t>(s) * N, p.begin() + static_cast<size_t>(s + window) * N);
+      all.insert(all.end(), p.begin() + static_cast<size_t>(s) * N,
+                 p.begin() + static_cast<size_t>(s + window) * N);
     }
   }
-  if (count == 0) throw std::invalid_argument("no test clip is " + std::to_string(window) + " frames long");
+  if (count == 0)
+    throw std::invalid_argument("no test clip is " + std::to_string(window) + " frames long");
   if (count <= limit) return all;
   const size_t per = all.size() / count;
   std::vector<float> out;
@@ -212,25 +235,35 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   const HgvaeModel model = HgvaeModel::Load(o.model);
   const HgvaeManifest& m = model.manifest();
   const std::string config_dir = ConfigDir(g.config_dir);
-  const ProtocolOptions protocol = LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", m.protocol));
-  const SkeletonConfig skeleton = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
+  const ProtocolOptions protocol =
+      LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", m.protocol));
+  const SkeletonConfig skeleton =
+      LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
   const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   const std::vector<float> windows = TestWindows(ds, model.window(), o.windows);
   const int T = model.window(), N = model.coords();
   const int count = static_cast<int>(windows.size() / (static_cast<size_t>(T) * N));
-  json j = {{"model", o.model}, {"protocol", m.protocol}, {"windows", count}, {"window_frames", T},
-            {"parameters", model.num_parameters()},
-            {"stochastic_levels", m.model.stochastic_levels == 0 ? static_cast<int>(m.model.levels.size())
-                                                                   : m.model.stochastic_levels}};
-  std::printf("HG-VAE %s (%s parameters, %zu levels, %d stochastic) on the %s test split: %d windows of %d frames\n",
-              o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
-              j["stochastic_levels"].get<int>(), m.protocol.c_str(), count, T);
+  json j = {
+      {"model", o.model},
+      {"protocol", m.protocol},
+      {"windows", count},
+      {"window_frames", T},
+      {"parameters", model.num_parameters()},
+      {"stochastic_levels", m.model.stochastic_levels == 0 ? static_cast<int>(m.model.levels.size())
+                                                           : m.model.stochastic_levels}};
+  std::printf(
+      "HG-VAE %s (%s parameters, %zu levels, %d stochastic) on the %s test split: %d windows of %d "
+      "frames\n",
+      o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
+      j["stochastic_levels"].get<int>(), m.protocol.c_str(), count, T);
 
   // Likelihood: ELBO, reconstruction, KL per level.
   const HgvaeWindowFigures f = model.Evaluate(windows, o.seed);
-  std::printf("\nlikelihood (nats per window, densities in metres): ELBO %.1f, reconstruction MSE %.3g cm^2 "
-              "(posterior means; %.3g sampled), KL",
-              Mean(f.elbo), 1e4 * Mean(f.recon_mse), 1e4 * Mean(f.recon_mse_sampled));
+  std::printf(
+      "\nlikelihood (nats per window, densities in metres): ELBO %.1f, reconstruction MSE %.3g "
+      "cm^2 "
+      "(posterior means; %.3g sampled), KL",
+      Mean(f.elbo), 1e4 * Mean(f.recon_mse), 1e4 * Mean(f.recon_mse_sampled));
   json kl = json::array();
   double kl_total = 0;
   for (const auto& level : f.kl_levels) {
@@ -238,10 +271,15 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     kl.push_back(Mean(level));
     kl_total += Mean(level);
   }
-  std::printf(" (total %.1f); posterior score %.1f, joint score %.1f\n", kl_total, Mean(f.score), Mean(f.joint_score));
-  j["likelihood"] = {{"elbo_nats", Mean(f.elbo)}, {"recon_mse_m2", Mean(f.recon_mse)},
-                     {"recon_mse_sampled_m2", Mean(f.recon_mse_sampled)}, {"kl_levels", kl}, {"kl_total", kl_total},
-                     {"posterior_score_mean", Mean(f.score)}, {"joint_score_mean", Mean(f.joint_score)}};
+  std::printf(" (total %.1f); posterior score %.1f, joint score %.1f\n", kl_total, Mean(f.score),
+              Mean(f.joint_score));
+  j["likelihood"] = {{"elbo_nats", Mean(f.elbo)},
+                     {"recon_mse_m2", Mean(f.recon_mse)},
+                     {"recon_mse_sampled_m2", Mean(f.recon_mse_sampled)},
+                     {"kl_levels", kl},
+                     {"kl_total", kl_total},
+                     {"posterior_score_mean", Mean(f.score)},
+                     {"joint_score_mean", Mean(f.joint_score)}};
   if (o.likelihood_only) {
     if (!o.json_out.empty()) WriteFileAtomically(o.json_out, j.dump(2) + "\n");
     return;
@@ -252,24 +290,31 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   std::vector<ImputationFigure> figs;
   {
     ProgressBar bar("imputation", !g.quiet);
-    figs = ImputationExperiment(model, windows, StandardOcclusions(model.skeleton()), options, o.seed,
-                                [&bar](int d, int t) { bar.Update(double(d) / t); });
+    figs = ImputationExperiment(model, windows, StandardOcclusions(model.skeleton()), options,
+                                o.seed, [&bar](int d, int t) { bar.Update(double(d) / t); });
   }
-  std::printf("\nimputation (%d Adam steps, lr %.3g, %s objective): MSE per missing value, cm^2\n", options.steps,
-              options.learning_rate, ToString(options.objective));
-  std::printf("  %-12s %10s %10s %10s %10s   score mean-filled -> imputed\n", "occlusion", "missing", "mean",
-              "HG-VAE", "reduction");
+  std::printf("\nimputation (%d Adam steps, lr %.3g, %s objective): MSE per missing value, cm^2\n",
+              options.steps, options.learning_rate, ToString(options.objective));
+  std::printf("  %-12s %10s %10s %10s %10s   score mean-filled -> imputed\n", "occlusion",
+              "missing", "mean", "HG-VAE", "reduction");
   json imp = json::array();
   for (const ImputationFigure& x : figs) {
     std::printf("  %-12s %10lld %10.3f %10.3f %9.1f%%   %.1f -> %.1f\n", x.occlusion.name.c_str(),
-                static_cast<long long>(x.missing_values), 1e4 * x.mse_mean, 1e4 * x.mse_model, 100 * x.reduction,
-                x.score_before, x.score_after);
-    imp.push_back({{"occlusion", x.occlusion.name}, {"share", x.occlusion.share}, {"missing_values", x.missing_values},
-                   {"mse_mean_m2", x.mse_mean}, {"mse_hgvae_m2", x.mse_model}, {"reduction", x.reduction},
-                   {"score_mean_filled", x.score_before}, {"score_imputed", x.score_after}});
+                static_cast<long long>(x.missing_values), 1e4 * x.mse_mean, 1e4 * x.mse_model,
+                100 * x.reduction, x.score_before, x.score_after);
+    imp.push_back({{"occlusion", x.occlusion.name},
+                   {"share", x.occlusion.share},
+                   {"missing_values", x.missing_values},
+                   {"mse_mean_m2", x.mse_mean},
+                   {"mse_hgvae_m2", x.mse_model},
+                   {"reduction", x.reduction},
+                   {"score_mean_filled", x.score_before},
+                   {"score_imputed", x.score_after}});
   }
-  j["imputation"] = {{"steps", options.steps}, {"learning_rate", options.learning_rate},
-                     {"objective", ToString(options.objective)}, {"settings", imp}};
+  j["imputation"] = {{"steps", options.steps},
+                     {"learning_rate", options.learning_rate},
+                     {"objective", ToString(options.objective)},
+                     {"settings", imp}};
 
   // Out of distribution: AUROC of both scores, clean vs degraded; flagged by the bundle's score.
   const std::vector<double> clean = model.Score(windows);
@@ -288,8 +333,11 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   degraded.push_back({"bones x1.5", ScaleBones(model.skeleton(), windows, 1.5f)});
   degraded.push_back({"bones x0.7", ScaleBones(model.skeleton(), windows, 0.7f)});
   degraded.push_back({"shuffled frames", ShuffleFrames(windows, N, o.seed + 11)});
-  std::printf("\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; share flagged "
-              "by the bundle's rule (%s score < %.1f)\n", ToString(m.ood_score), model.OodThreshold());
+  std::printf(
+      "\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; "
+      "share flagged "
+      "by the bundle's rule (%s score < %.1f)\n",
+      ToString(m.ood_score), model.OodThreshold());
   int clean_flagged = 0;
   for (double s : clean) clean_flagged += model.OutOfDistribution(s);
   std::printf("  %-22s %12s %12s %8s\n", "windows", "AUROC joint", "posterior", "flagged");
@@ -301,18 +349,24 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     for (double x : s) flagged += model.OutOfDistribution(x);
     const double auc_joint = Auroc(clean_joint, model.Score(d.w, ImputeObjective::kJoint));
     const double auc_post = Auroc(clean_post, model.Score(d.w, ImputeObjective::kPosterior));
-    std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", d.name.c_str(), auc_joint, auc_post, 100.0 * flagged / count);
-    ood.push_back({{"degradation", d.name}, {"auroc_joint", auc_joint}, {"auroc_posterior", auc_post},
+    std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", d.name.c_str(), auc_joint, auc_post,
+                100.0 * flagged / count);
+    ood.push_back({{"degradation", d.name},
+                   {"auroc_joint", auc_joint},
+                   {"auroc_posterior", auc_post},
                    {"flagged", double(flagged) / count}});
   }
-  j["ood"] = {{"score", ToString(m.ood_score)}, {"threshold", model.OodThreshold()},
-              {"clean_flagged", double(clean_flagged) / count}, {"tests", ood}};
+  j["ood"] = {{"score", ToString(m.ood_score)},
+              {"threshold", model.OodThreshold()},
+              {"clean_flagged", double(clean_flagged) / count},
+              {"tests", ood}};
 
   // Downstream forecasting from clean, mean-imputed and imputed histories.
   if (!o.forecaster.empty()) {
     const Forecaster fc = Forecaster::Load(o.forecaster);
     if (fc.config().generator.t_his != T) {
-      throw std::invalid_argument("the forecaster's history is " + std::to_string(fc.config().generator.t_his) +
+      throw std::invalid_argument("the forecaster's history is " +
+                                  std::to_string(fc.config().generator.t_his) +
                                   " frames, the HG-VAE's window " + std::to_string(T));
     }
     std::vector<const Clip*> test_clips;
@@ -339,8 +393,9 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
       const std::vector<float> pred = fc.PredictRootRelative(histories, H, req);
       double ade = 0, fde = 0;
       for (int i = 0; i < H; ++i) {
-        const Displacement d = MinDisplacement(pred.data() + static_cast<size_t>(i) * o.k * P * D, o.k, P, D,
-                                               fut.data() + static_cast<size_t>(i) * P * D);
+        const Displacement d =
+            MinDisplacement(pred.data() + static_cast<size_t>(i) * o.k * P * D, o.k, P, D,
+                            fut.data() + static_cast<size_t>(i) * P * D);
         ade += d.ade;
         fde += d.fde;
       }
@@ -355,20 +410,28 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     ProgressBar bar("forecasting", !g.quiet);
     for (size_t s = 0; s < settings.size(); ++s) {
       const Occlusion& oc = settings[s];
-      const std::vector<uint8_t> mask = oc.share > 0 ? RandomOcclusion(H, T * N, oc.share, o.seed + 99 + s)
-                                                     : JointOcclusion(H, T, J, oc.joints);
+      const std::vector<uint8_t> mask = oc.share > 0
+                                            ? RandomOcclusion(H, T * N, oc.share, o.seed + 99 + s)
+                                            : JointOcclusion(H, T, J, oc.joints);
       const auto mean_fc = score(model.MeanImpute(hist, mask));
       const auto imp_fc = score(model.Impute(hist, mask, options).windows);
-      std::printf("  %-12s mean-imputed %.3f / %.3f   HG-VAE-imputed %.3f / %.3f\n", oc.name.c_str(), mean_fc.first,
-                  mean_fc.second, imp_fc.first, imp_fc.second);
-      fcj.push_back({{"occlusion", oc.name}, {"ade_mean_imputed", mean_fc.first}, {"fde_mean_imputed", mean_fc.second},
-                     {"ade_hgvae_imputed", imp_fc.first}, {"fde_hgvae_imputed", imp_fc.second}});
+      std::printf("  %-12s mean-imputed %.3f / %.3f   HG-VAE-imputed %.3f / %.3f\n",
+                  oc.name.c_str(), mean_fc.first, mean_fc.second, imp_fc.first, imp_fc.second);
+      fcj.push_back({{"occlusion", oc.name},
+                     {"ade_mean_imputed", mean_fc.first},
+                     {"fde_mean_imputed", mean_fc.second},
+                     {"ade_hgvae_imputed", imp_fc.first},
+                     {"fde_hgvae_imputed", imp_fc.second}});
       bar.Update(double(s + 1) / settings.size());
     }
     bar.Finish();
-    j["forecasting"] = {{"forecaster", o.forecaster}, {"k", o.k}, {"windows", H}, {"repair", false},
+    j["forecasting"] = {{"forecaster", o.forecaster},
+                        {"k", o.k},
+                        {"windows", H},
+                        {"repair", false},
                         {"ade_clean", clean_fc.first},
-                        {"fde_clean", clean_fc.second}, {"settings", fcj}};
+                        {"fde_clean", clean_fc.second},
+                        {"settings", fcj}};
   }
   if (!o.json_out.empty()) WriteFileAtomically(o.json_out, j.dump(2) + "\n");
 }
@@ -377,18 +440,26 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
 
 void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   auto o = std::make_shared<ImputeCmd>();
-  CLI::App* cmd = app.add_subcommand(
-      "impute",
-      "Fill the missing values of a motion with an HG-VAE: NaN values in .npy, empty or nan fields in\n"
-      ".csv, and/or --mask. Missing values start at the training mean and are moved by Adam to raise\n"
-      "the model's score (the bundle's objective); each window keeps its best step. Observed values\n"
-      "are kept exactly.");
-  cmd->add_option("--model", o->model, "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae")->required();
-  cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--mask", o->masks,
-                  "Values to treat as missing, repeatable: random:SHARE (e.g. random:0.1), joints:A,B (every "
-                  "frame), joints:A,B@FIRST-LAST (0-based frames), or MASK.npy ([T, J] or [T, J, 3], non-zero = "
-                  "missing)");
+  CLI::App* cmd = app.add_subcommand("impute",
+                                     "Fill the missing values of a motion with an HG-VAE: NaN "
+                                     "values in .npy, empty or nan fields in\n"
+                                     ".csv, and/or --mask. Missing values start at the training "
+                                     "mean and are moved by Adam to raise\n"
+                                     "the model's score (the bundle's objective); each window "
+                                     "keeps its best step. Observed values\n"
+                                     "are kept exactly.");
+  cmd->add_option("--model", o->model,
+                  "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae")
+      ->required();
+  cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option(
+      "--mask", o->masks,
+      "Values to treat as missing, repeatable: random:SHARE (e.g. random:0.1), joints:A,B (every "
+      "frame), joints:A,B@FIRST-LAST (0-based frames), or MASK.npy ([T, J] or [T, J, 3], non-zero "
+      "= "
+      "missing)");
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   cmd->add_option("--seed", o->seed, "Seed of random masks (default 0)");
   AddImputeFlags(cmd, &o->flags);
@@ -399,13 +470,17 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
 
 void AddOodCommand(CLI::App& app, GlobalOptions& global) {
   auto o = std::make_shared<OodCmd>();
-  CLI::App* cmd = app.add_subcommand(
-      "ood",
-      "Score a motion's windows with an HG-VAE and flag those out of distribution: posterior score\n"
-      "below the training windows' mean - k std (k in the bundle). Exit status 1 when any window is flagged.");
+  CLI::App* cmd = app.add_subcommand("ood",
+                                     "Score a motion's windows with an HG-VAE and flag those out "
+                                     "of distribution: posterior score\n"
+                                     "below the training windows' mean - k std (k in the bundle). "
+                                     "Exit status 1 when any window is flagged.");
   cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
-  cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--stride", o->stride, "Frames between window starts (default: the window length)")
+  cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--stride", o->stride,
+                  "Frames between window starts (default: the window length)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   cmd->add_option("--json", o->json_out, "Also write the scores to this JSON file");
@@ -415,11 +490,13 @@ void AddOodCommand(CLI::App& app, GlobalOptions& global) {
 
 void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {
   auto o = std::make_shared<SampleCmd>();
-  CLI::App* cmd = hgvae.add_subcommand(
-      "sample", "Sample motion windows from an HG-VAE's prior, optionally of one class (conditional models).");
+  CLI::App* cmd = hgvae.add_subcommand("sample",
+                                       "Sample motion windows from an HG-VAE's prior, optionally "
+                                       "of one class (conditional models).");
   cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
   cmd->add_option("--class", o->cls, "Class to sample (e.g. walk); default none (unconditional)");
-  cmd->add_option("-n,--count", o->count, "Windows to sample (default 1); written one after another")
+  cmd->add_option("-n,--count", o->count,
+                  "Windows to sample (default 1); written one after another")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--seed", o->seed, "Random seed (default 0)");
   cmd->add_flag("--mean-latents", o->mean_latents, "Each level's prior mean instead of a sample");
@@ -429,17 +506,24 @@ void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {
 
 void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global) {
   auto o = std::make_shared<EvalCmd>();
-  CLI::App* cmd = hgvae.add_subcommand(
-      "eval",
-      "An HG-VAE's figures on its protocol's test split: likelihood (ELBO, KL per level), imputation\n"
-      "MSE vs mean imputation (random 1/10/50/90% of values, whole limbs), out-of-distribution AUROC,\n"
-      "and with --forecaster the forecasting ADE/FDE from clean, mean-imputed and imputed histories.");
+  CLI::App* cmd = hgvae.add_subcommand("eval",
+                                       "An HG-VAE's figures on its protocol's test split: "
+                                       "likelihood (ELBO, KL per level), imputation\n"
+                                       "MSE vs mean imputation (random 1/10/50/90% of values, "
+                                       "whole limbs), out-of-distribution AUROC,\n"
+                                       "and with --forecaster the forecasting ADE/FDE from clean, "
+                                       "mean-imputed and imputed histories.");
   cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
-  cmd->add_option("--data", o->data, "Data folder of the model's protocol")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--data", o->data, "Data folder of the model's protocol")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--split", o->split_file, "Split file overriding the protocol's");
-  cmd->add_option("--windows", o->windows, "Test windows, spread evenly (default 1000)")->check(CLI::PositiveNumber);
-  cmd->add_option("--forecaster", o->forecaster, "Generator bundle for the downstream figures (e.g. models/bandai)");
-  cmd->add_option("--forecast-windows", o->forecast_windows, "Protocol test windows for them (default 500)")
+  cmd->add_option("--windows", o->windows, "Test windows, spread evenly (default 1000)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--forecaster", o->forecaster,
+                  "Generator bundle for the downstream figures (e.g. models/bandai)");
+  cmd->add_option("--forecast-windows", o->forecast_windows,
+                  "Protocol test windows for them (default 500)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("-k", o->k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
   cmd->add_option("--seed", o->seed, "Seed of masks and samples (default 0)");

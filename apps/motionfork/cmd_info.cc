@@ -37,10 +37,11 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
     }
     std::printf("], \"parents\": [");
     for (int j = 0; j < s.num_joints(); ++j) std::printf("%s%d", j ? ", " : "", s.parent(j));
-    std::printf("], \"frames\": %d, \"fps\": %.6g, \"fps_assumed\": %s, \"duration_s\": %.6g, "
-                "\"bbox_min_m\": [%.6g, %.6g, %.6g], \"bbox_max_m\": [%.6g, %.6g, %.6g]}\n",
-                m.num_frames(), m.fps(), lm.fps_assumed ? "true" : "false", m.duration_seconds(),
-                box.min[0], box.min[1], box.min[2], box.max[0], box.max[1], box.max[2]);
+    std::printf(
+        "], \"frames\": %d, \"fps\": %.6g, \"fps_assumed\": %s, \"duration_s\": %.6g, "
+        "\"bbox_min_m\": [%.6g, %.6g, %.6g], \"bbox_max_m\": [%.6g, %.6g, %.6g]}\n",
+        m.num_frames(), m.fps(), lm.fps_assumed ? "true" : "false", m.duration_seconds(),
+        box.min[0], box.min[1], box.min[2], box.max[0], box.max[1], box.max[2]);
     return;
   }
   std::printf("file:      %s\n", o.file.c_str());
@@ -55,12 +56,13 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
   if (!s.partitions().empty()) {
     for (const Partition& p : s.partitions()) {
       std::printf("parts:     %s:", p.name.c_str());
-      for (const BodyPart& part : p.parts) std::printf(" %s(%zu)", part.name.c_str(), part.joints.size());
+      for (const BodyPart& part : p.parts)
+        std::printf(" %s(%zu)", part.name.c_str(), part.joints.size());
       std::printf("\n");
     }
   }
-  std::printf("frames:    %s at %.6g Hz%s (%.2f s)\n", WithThousands(m.num_frames()).c_str(), m.fps(),
-              lm.fps_assumed ? " (assumed: the file stores no rate; pass --fps)" : "",
+  std::printf("frames:    %s at %.6g Hz%s (%.2f s)\n", WithThousands(m.num_frames()).c_str(),
+              m.fps(), lm.fps_assumed ? " (assumed: the file stores no rate; pass --fps)" : "",
               m.duration_seconds());
   std::printf("bounding box (m): x [%.3f, %.3f]  y [%.3f, %.3f]  z [%.3f, %.3f]\n", box.min[0],
               box.max[0], box.min[1], box.max[1], box.min[2], box.max[2]);
@@ -74,7 +76,9 @@ void AddInfoCommand(CLI::App& app, GlobalOptions& global) {
   auto o = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand(
       "info", "Show a motion file's skeleton, frames, frame rate, duration and bounding box");
-  cmd->add_option("FILE", o->file, "Motion file (.bvh, .npy, .csv)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("FILE", o->file, "Motion file (.bvh, .npy, .csv)")
+      ->required()
+      ->check(CLI::ExistingFile);
   AddMotionInputOptions(cmd, &o->input);
   cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
   cmd->callback([o, &global] { RunInfo(*o, global); });

@@ -65,7 +65,6 @@ struct SampleOptions {
   int steps = 1000;
 };
 
-
 std::string Fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), format, v);

@@ -4,19 +4,19 @@
 #include <memory>
 
 #include "app_common.h"
-#include "dataset_loading.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
-#include "constraints/torch/angle_penalty.h"
-#include "flow/flow_module.h"
-#include "flow/pose_prior.h"
 #include "config/model_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "config/training_options.h"
+#include "constraints/torch/angle_penalty.h"
 #include "core/error.h"
 #include "dataset/dataset.h"
+#include "dataset_loading.h"
+#include "flow/flow_module.h"
+#include "flow/pose_prior.h"
 #include "generator/training.h"
 #include "io/file_util.h"
 #include "validity/pose_validator.h"
@@ -36,8 +36,10 @@ struct TrainOptions {
 // Loss term names as the progress bar shows them.
 std::string ShortTermName(const std::string& name) {
   static const std::pair<const char*, const char*> kShort[] = {
-      {"total", "loss"}, {"past_reconstruction", "past"}, {"limb_length", "limb"}, {"diversity_", "div"},
-      {"best_of_many", "bom"}, {"multimodal", "mm"}, {"prior_nll", "prior"}, {"angle", "angle"}};
+      {"total", "loss"},       {"past_reconstruction", "past"},
+      {"limb_length", "limb"}, {"diversity_", "div"},
+      {"best_of_many", "bom"}, {"multimodal", "mm"},
+      {"prior_nll", "prior"},  {"angle", "angle"}};
   for (const auto& [full, brief] : kShort) {
     if (name.rfind(full, 0) == 0) return brief + name.substr(std::string(full).size());
   }
@@ -46,7 +48,8 @@ std::string ShortTermName(const std::string& name) {
 
 // The split a run trains on, as recorded: the split file's absolute path, or the protocol's own.
 std::string SplitName(const TrainOptions& o) {
-  return o.split_file.empty() ? "the protocol's own" : std::filesystem::absolute(o.split_file).string();
+  return o.split_file.empty() ? "the protocol's own"
+                              : std::filesystem::absolute(o.split_file).string();
 }
 
 // The whole recipe travels with the weights: OUT/training.yaml holds a header (the config's path,
@@ -64,22 +67,26 @@ void RecordTrainingConfig(const TrainOptions& o, const std::string& config_path)
     const std::string before = ReadFileBytes(recorded.string());
     const size_t mark = before.find(kConfigMark);
     const bool same_config =
-        mark != std::string::npos && before.compare(mark + kConfigMark.size(), std::string::npos, body) == 0;
+        mark != std::string::npos &&
+        before.compare(mark + kConfigMark.size(), std::string::npos, body) == 0;
     const size_t split_at = before.find(split_line);
     if (!same_config || split_at == std::string::npos || split_at > mark) {
-      throw FormatError(FormatMessage(
-          recorded.string(), "",
-          std::string("this folder's epochs were trained with another ") + (same_config ? "split" : "config") +
-              " than now (" + (same_config ? SplitName(o) : config_path) +
-              "); resume with the config and split recorded here (--epochs may differ), or train into a new "
-              "--out"));
+      throw FormatError(
+          FormatMessage(recorded.string(), "",
+                        std::string("this folder's epochs were trained with another ") +
+                            (same_config ? "split" : "config") + " than now (" +
+                            (same_config ? SplitName(o) : config_path) +
+                            "); resume with the config and split recorded here (--epochs may "
+                            "differ), or train into a new "
+                            "--out"));
     }
   }
-  std::string header = "# The training config of this bundle: " + config_path + ", read by `motionfork train`.\n" +
-                       split_line;
+  std::string header = "# The training config of this bundle: " + config_path +
+                       ", read by `motionfork train`.\n" + split_line;
   if (o.epochs > 0) {
-    header += "# --epochs " + std::to_string(o.epochs) +
-              " on the command line replaced training.epochs (and capped lr_constant_epochs at it).\n";
+    header +=
+        "# --epochs " + std::to_string(o.epochs) +
+        " on the command line replaced training.epochs (and capped lr_constant_epochs at it).\n";
   }
   if (trained && !fs::is_regular_file(recorded)) {
     header += "# Recorded when resuming: the config of the earlier epochs was not recorded.\n";
@@ -97,19 +104,21 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     cfg.training.lr_constant_epochs = std::min(cfg.training.lr_constant_epochs, o.epochs);
   }
   RecordTrainingConfig(o, config_path);  // before the data: a refused folder costs nothing
-  const ProtocolOptions protocol = LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", cfg.protocol));
-  const SkeletonConfig skeleton = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
+  const ProtocolOptions protocol =
+      LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", cfg.protocol));
+  const SkeletonConfig skeleton =
+      LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
   const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
   TrainingWindows data;
   {
     ProgressBar bar("pseudo multimodal futures", !g.quiet);
-    data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, CacheDir(g.cache_dir),
-                                [&bar](double f) { bar.Update(f); });
+    data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal,
+                                CacheDir(g.cache_dir), [&bar](double f) { bar.Update(f); });
   }
   size_t with_mm = 0;
   for (const auto& m : data.multimodal) with_mm += !m.empty();
-  std::printf("training windows: %zu (stride %d), %zu with pseudo multimodal futures\n", data.windows.size(),
-              cfg.training.window_stride, with_mm);
+  std::printf("training windows: %zu (stride %d), %zu with pseudo multimodal futures\n",
+              data.windows.size(), cfg.training.window_stride, with_mm);
 
   ModelConfig model;
   model.protocol = protocol.name;
@@ -163,19 +172,24 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   AttachToBundle(o.out, constraints_path, prior_dir);
   TrainCallbacks cb;
   std::unique_ptr<ProgressBar> bar;
-  cb.step = [&](int epoch, double fraction, const std::vector<std::pair<std::string, double>>& terms) {
-    if (!bar) bar = std::make_unique<ProgressBar>("epoch " + std::to_string(epoch + 1) + "/" +
-                                                      std::to_string(cfg.training.epochs), !g.quiet);
+  cb.step = [&](int epoch, double fraction,
+                const std::vector<std::pair<std::string, double>>& terms) {
+    if (!bar)
+      bar = std::make_unique<ProgressBar>(
+          "epoch " + std::to_string(epoch + 1) + "/" + std::to_string(cfg.training.epochs),
+          !g.quiet);
     // Every loss term, in short: "loss 0.43 rec 0.0011 limb 0.0002 div0 0.0063 ...".
     std::string detail;
     for (const auto& [name, v] : terms) {
       char buf[48];
-      std::snprintf(buf, sizeof(buf), "%s%s %.3g", detail.empty() ? "" : " ", ShortTermName(name).c_str(), v);
+      std::snprintf(buf, sizeof(buf), "%s%s %.3g", detail.empty() ? "" : " ",
+                    ShortTermName(name).c_str(), v);
       detail += buf;
     }
     bar->Update(fraction, detail);
   };
-  cb.epoch = [&](int epoch, const std::vector<std::pair<std::string, double>>& terms, double seconds) {
+  cb.epoch = [&](int epoch, const std::vector<std::pair<std::string, double>>& terms,
+                 double seconds) {
     bar.reset();
     std::printf("epoch %d/%d (%s):", epoch + 1, cfg.training.epochs, Duration(seconds).c_str());
     for (const auto& [name, v] : terms) std::printf(" %s %.4g", name.c_str(), v);
@@ -185,13 +199,16 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
   cb.message = [](const std::string& m) { std::printf("%s\n", m.c_str()); };
   const TrainSummary s = TrainGenerator(cfg, model, data, o.out, hooks, cb, o.stop_after);
   if (s.first_epoch >= cfg.training.epochs) {
-    std::printf("all %d epochs were trained already; bundle: %s (constraints.yaml and prior/ copied again), log: "
-                "%s/log.csv\n",
-                cfg.training.epochs, o.out.c_str(), o.out.c_str());
+    std::printf(
+        "all %d epochs were trained already; bundle: %s (constraints.yaml and prior/ copied "
+        "again), log: "
+        "%s/log.csv\n",
+        cfg.training.epochs, o.out.c_str(), o.out.c_str());
     return;
   }
-  std::printf("trained epochs %d..%d in %s; bundle: %s (model.yaml, generator.pt), log: %s/log.csv\n",
-              s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), o.out.c_str(), o.out.c_str());
+  std::printf(
+      "trained epochs %d..%d in %s; bundle: %s (model.yaml, generator.pt), log: %s/log.csv\n",
+      s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), o.out.c_str(), o.out.c_str());
 }
 
 }  // namespace
@@ -202,15 +219,21 @@ void AddTrainCommand(CLI::App& app, GlobalOptions& global) {
       "train",
       "Train a generator (configs/models/NAME.yaml) on a protocol's training split.\n"
       "Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and\n"
-      "OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; OUT/training.yaml\n"
+      "OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; "
+      "OUT/training.yaml\n"
       "records the config as read and the split. Running the same command again resumes where it\n"
       "stopped (--epochs may change; another config or split is refused).");
-  cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")->required();
-  cmd->add_option("--data", o->data, "Data folder of the config's protocol")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")
+      ->required();
+  cmd->add_option("--data", o->data, "Data folder of the config's protocol")
+      ->required()
+      ->check(CLI::ExistingDirectory);
   cmd->add_option("--out", o->out, "Output folder (bundle, log, checkpoint)")->required();
   cmd->add_option("--split", o->split_file, "Split file overriding the protocol's");
-  cmd->add_option("--epochs", o->epochs, "Override the config's epoch count")->check(CLI::PositiveNumber);
-  cmd->add_option("--stop-after", o->stop_after, "Stop after this many epochs of this run (resume later)")
+  cmd->add_option("--epochs", o->epochs, "Override the config's epoch count")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--stop-after", o->stop_after,
+                  "Stop after this many epochs of this run (resume later)")
       ->check(CLI::PositiveNumber);
   cmd->callback([o, &global] { RunTrain(*o, global); });
 }

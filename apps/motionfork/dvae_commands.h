@@ -5,8 +5,8 @@
 
 namespace motionfork::app {
 
-void AddDvaeCommand(CLI::App& app, GlobalOptions& global);     // dvae train|finetune
-void AddDenoiseCommand(CLI::App& app, GlobalOptions& global);  // denoise
+void AddDvaeCommand(CLI::App& app, GlobalOptions& global);       // dvae train|finetune
+void AddDenoiseCommand(CLI::App& app, GlobalOptions& global);    // denoise
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global);  // dvae eval
 
 }  // namespace motionfork::app

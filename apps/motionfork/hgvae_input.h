@@ -19,7 +19,8 @@ struct MotionWithGaps {
 // Reads `path` (missing values allowed), maps it onto `skeleton` by joint names (or --skeleton's
 // selection) and resamples to fps; masks from --mask specs are added (seed for random ones).
 MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOptions& input,
-                                  const std::string& config_dir, const std::shared_ptr<const Skeleton>& skeleton,
-                                  double fps, const std::vector<std::string>& mask_specs, uint64_t seed);
+                                  const std::string& config_dir,
+                                  const std::shared_ptr<const Skeleton>& skeleton, double fps,
+                                  const std::vector<std::string>& mask_specs, uint64_t seed);
 
 }  // namespace motionfork::app

@@ -7,9 +7,9 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "core/error.h"
 #include "dvae_commands.h"
 #include "hgvae_commands.h"
-#include "core/error.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 
@@ -23,11 +23,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", MOTIONFORK_VERSION);
   GlobalOptions global;
-  app.add_option("--config-dir", global.config_dir,
-                 "Folder of YAML configs (default: $MOTIONFORK_CONFIG_DIR or the source tree's configs/)");
-  app.add_option("--cache-dir", global.cache_dir,
-                 "Folder for parsed-dataset caches ('none' disables; default: $MOTIONFORK_CACHE_DIR or "
-                 "~/.cache/motionfork)");
+  app.add_option(
+      "--config-dir", global.config_dir,
+      "Folder of YAML configs (default: $MOTIONFORK_CONFIG_DIR or the source tree's configs/)");
+  app.add_option(
+      "--cache-dir", global.cache_dir,
+      "Folder for parsed-dataset caches ('none' disables; default: $MOTIONFORK_CACHE_DIR or "
+      "~/.cache/motionfork)");
   app.add_flag("-q,--quiet", global.quiet, "No progress bars");
   AddInfoCommand(app, global);
   AddConvertCommand(app, global);

@@ -21,7 +21,8 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
 std::vector<uint8_t> ConformMask(const Motion& motion, const std::vector<uint8_t>& missing,
                                  const SkeletonConfig& config) {
   // The mask as a motion of 0/1 "positions" goes through the same selection as the motion.
-  const Motion as_motion(motion.skeleton_ptr(), motion.fps(), std::vector<float>(missing.begin(), missing.end()));
+  const Motion as_motion(motion.skeleton_ptr(), motion.fps(),
+                         std::vector<float>(missing.begin(), missing.end()));
   const Motion conformed = ConformToSkeleton(as_motion, config);
   std::vector<uint8_t> out(conformed.positions().size());
   for (size_t i = 0; i < out.size(); ++i) out[i] = conformed.positions()[i] != 0.0f;
@@ -35,7 +36,8 @@ LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& 
   read.bvh.scale_to_metres = o.bvh_scale;
   read.fps = o.fps > 0 ? o.fps : 30.0;
   if (!o.skeleton.empty()) {
-    out.skeleton_config = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", o.skeleton));
+    out.skeleton_config =
+        LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", o.skeleton));
   }
   const MotionFormat format = FormatOfPath(path);
   read.missing = missing;

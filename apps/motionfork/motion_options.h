@@ -2,8 +2,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <optional>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,9 +13,9 @@
 namespace motionfork::app {
 
 struct MotionInputOptions {
-  std::string skeleton;    // config name or path; "" = as stored in the file
-  double fps = 0;          // 0 = from the file, else 30 Hz for files that store none
-  double bvh_scale = 0.01; // BVH length unit -> metres
+  std::string skeleton;     // config name or path; "" = as stored in the file
+  double fps = 0;           // 0 = from the file, else 30 Hz for files that store none
+  double bvh_scale = 0.01;  // BVH length unit -> metres
 };
 
 void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o);
@@ -30,7 +30,8 @@ struct LoadedMotion {
 // `missing`, missing values are accepted (NaN in .npy, empty/nan in .csv) and marked there,
 // [T, J, 3] on the loaded motion's joints (after --skeleton).
 LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& o,
-                             const std::string& config_dir, std::vector<uint8_t>* missing = nullptr);
+                             const std::string& config_dir,
+                             std::vector<uint8_t>* missing = nullptr);
 
 // A missing-value mask [T, J, 3] following a motion through ConformToSkeleton: a value of the
 // result is missing when any value it was made from was.

@@ -194,7 +194,8 @@ ConstraintSetSpec ParseRoot(const YAML::Node& root, const std::string& file,
   }
 
   if (const YAML::Node rigid = root["rigid"]) {
-    if (!rigid.IsSequence()) Fail(file, rigid, "'rigid' must be a list of joint lists, e.g. [[LHip, RHip, Spine]]");
+    if (!rigid.IsSequence())
+      Fail(file, rigid, "'rigid' must be a list of joint lists, e.g. [[LHip, RHip, Spine]]");
     for (const YAML::Node& group : rigid) {
       if (!group.IsSequence() || group.size() < 1) {
         Fail(file, group, "each 'rigid' entry must be a non-empty list of joint names");

@@ -8,12 +8,15 @@
 
 namespace motionfork {
 
-const char* ToString(DenoiseMode mode) { return mode == DenoiseMode::kRegression ? "regression" : "optimisation"; }
+const char* ToString(DenoiseMode mode) {
+  return mode == DenoiseMode::kRegression ? "regression" : "optimisation";
+}
 
 DenoiseMode ParseDenoiseMode(const std::string& text) {
   if (text == "regression") return DenoiseMode::kRegression;
   if (text == "optimisation" || text == "optimization") return DenoiseMode::kOptimisation;
-  throw std::invalid_argument("denoise mode: expected 'regression' or 'optimisation', got '" + text + "'");
+  throw std::invalid_argument("denoise mode: expected 'regression' or 'optimisation', got '" +
+                              text + "'");
 }
 
 void ValidateDvaeOptions(const DvaeOptions& o) {
@@ -21,8 +24,8 @@ void ValidateDvaeOptions(const DvaeOptions& o) {
   if (o.window < 3) fail("window: expected >= 3 frames, got " + std::to_string(o.window));
   if (o.hidden < 1 || o.latent < 1) fail("hidden and latent: expected >= 1");
   if (o.groups < 1 || o.mlp_hidden < o.groups || o.mlp_hidden % o.groups != 0) {
-    fail("mlp_hidden (" + std::to_string(o.mlp_hidden) + ") must be a positive multiple of groups (" +
-         std::to_string(o.groups) + ")");
+    fail("mlp_hidden (" + std::to_string(o.mlp_hidden) +
+         ") must be a positive multiple of groups (" + std::to_string(o.groups) + ")");
   }
 }
 
@@ -58,7 +61,8 @@ void ParseNoisePrior(const std::string& file, const YAML::Node& n, DvaeNoisePrio
   CheckKeys(file, n, "noise_prior", {"dof", "scale"});
   o->dof = GetOr<double>(file, n, "dof", o->dof);
   o->scale = GetOr<double>(file, n, "scale", o->scale);
-  if (!(o->dof > 0) || !(o->scale > 0)) Fail(file, n, "noise_prior: expected dof > 0 and scale > 0 (metres)");
+  if (!(o->dof > 0) || !(o->scale > 0))
+    Fail(file, n, "noise_prior: expected dof > 0 and scale > 0 (metres)");
 }
 
 void EmitNoisePrior(YAML::Emitter& out, const DvaeNoisePrior& o) {
@@ -69,7 +73,9 @@ void EmitNoisePrior(YAML::Emitter& out, const DvaeNoisePrior& o) {
 }
 
 void ParseDenoise(const std::string& file, const YAML::Node& n, DenoiseOptions* o) {
-  CheckKeys(file, n, "denoise", {"mode", "iterations", "learning_rate", "bone_weight", "fuse", "samples", "stride", "seed"});
+  CheckKeys(
+      file, n, "denoise",
+      {"mode", "iterations", "learning_rate", "bone_weight", "fuse", "samples", "stride", "seed"});
   if (n["mode"]) {
     try {
       o->mode = ParseDenoiseMode(Get<std::string>(file, n, "mode"));
@@ -84,8 +90,11 @@ void ParseDenoise(const std::string& file, const YAML::Node& n, DenoiseOptions* 
   o->samples = GetOr<int>(file, n, "samples", o->samples);
   o->stride = GetOr<int>(file, n, "stride", o->stride);
   o->seed = GetOr<uint64_t>(file, n, "seed", o->seed);
-  if (o->iterations < 0 || !(o->learning_rate > 0) || o->samples < 0 || o->stride < 1 || o->bone_weight < 0) {
-    Fail(file, n, "denoise: expected iterations >= 0, learning_rate > 0, bone_weight >= 0, samples >= 0, stride >= 1");
+  if (o->iterations < 0 || !(o->learning_rate > 0) || o->samples < 0 || o->stride < 1 ||
+      o->bone_weight < 0) {
+    Fail(file, n,
+         "denoise: expected iterations >= 0, learning_rate > 0, bone_weight >= 0, samples >= 0, "
+         "stride >= 1");
   }
 }
 
@@ -127,7 +136,8 @@ auto Wrap(const std::string& file, F&& f) {
 
 DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
   return Wrap(file, [&] {
-    CheckKeys(file, root, "", {"name", "protocol", "model", "training", "finetune", "noise_prior", "denoise"});
+    CheckKeys(file, root, "",
+              {"name", "protocol", "model", "training", "finetune", "noise_prior", "denoise"});
     DvaeTrainConfig c;
     c.path = file;
     c.name = GetOr<std::string>(file, root, "name", "");
@@ -135,8 +145,9 @@ DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) 
     ParseModel(file, Section(file, root, "model", false), &c.model);
     const YAML::Node t = Section(file, root, "training", false);
     CheckKeys(file, t, "training",
-              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "lr_decay", "grad_clip",
-               "kl_anneal_epochs", "kl_start", "bone_weight", "held_out_share", "held_out_windows", "seed", "threads"});
+              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "lr_decay",
+               "grad_clip", "kl_anneal_epochs", "kl_start", "bone_weight", "held_out_share",
+               "held_out_windows", "seed", "threads"});
     DvaeTrainOptions& o = c.training;
     o.epochs = GetOr<int>(file, t, "epochs", o.epochs);
     o.windows_per_epoch = GetOr<int>(file, t, "windows_per_epoch", o.windows_per_epoch);
@@ -151,17 +162,21 @@ DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) 
     o.held_out_windows = GetOr<int>(file, t, "held_out_windows", o.held_out_windows);
     o.seed = GetOr<uint64_t>(file, t, "seed", o.seed);
     o.threads = GetOr<int>(file, t, "threads", o.threads);
-    if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size || !(o.learning_rate > 0) ||
-        !(o.lr_decay > 0 && o.lr_decay <= 1) || o.kl_anneal_epochs < 0 || o.threads < 1 || o.bone_weight < 0 ||
-        !(o.held_out_share > 0 && o.held_out_share < 1) || o.held_out_windows < 1) {
+    if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size ||
+        !(o.learning_rate > 0) || !(o.lr_decay > 0 && o.lr_decay <= 1) || o.kl_anneal_epochs < 0 ||
+        o.threads < 1 || o.bone_weight < 0 || !(o.held_out_share > 0 && o.held_out_share < 1) ||
+        o.held_out_windows < 1) {
       Fail(file, t,
-           "training: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, learning_rate > 0, "
-           "0 < lr_decay <= 1, kl_anneal_epochs >= 0, bone_weight >= 0, threads >= 1, 0 < held_out_share < 1");
+           "training: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, "
+           "learning_rate > 0, "
+           "0 < lr_decay <= 1, kl_anneal_epochs >= 0, bone_weight >= 0, threads >= 1, 0 < "
+           "held_out_share < 1");
     }
     const YAML::Node f = Section(file, root, "finetune", false);
-    CheckKeys(file, f, "finetune",
-              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip", "kl_anneal_epochs",
-               "kl_start", "bone_weight", "noise", "patience", "seed", "threads"});
+    CheckKeys(
+        file, f, "finetune",
+        {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip",
+         "kl_anneal_epochs", "kl_start", "bone_weight", "noise", "patience", "seed", "threads"});
     DvaeFinetuneOptions& u = c.finetune;
     u.epochs = GetOr<int>(file, f, "epochs", u.epochs);
     u.windows_per_epoch = GetOr<int>(file, f, "windows_per_epoch", u.windows_per_epoch);
@@ -175,11 +190,14 @@ DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) 
     u.patience = GetOr<int>(file, f, "patience", u.patience);
     u.seed = GetOr<uint64_t>(file, f, "seed", u.seed);
     u.threads = GetOr<int>(file, f, "threads", u.threads);
-    if (u.epochs < 1 || u.batch_size < 1 || u.windows_per_epoch < u.batch_size || !(u.learning_rate > 0) ||
-        u.kl_anneal_epochs < 0 || u.threads < 1 || u.noise.empty() || u.patience < 1 || u.bone_weight < 0) {
+    if (u.epochs < 1 || u.batch_size < 1 || u.windows_per_epoch < u.batch_size ||
+        !(u.learning_rate > 0) || u.kl_anneal_epochs < 0 || u.threads < 1 || u.noise.empty() ||
+        u.patience < 1 || u.bone_weight < 0) {
       Fail(file, f,
-           "finetune: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, learning_rate > 0, "
-           "kl_anneal_epochs >= 0, threads >= 1, patience >= 1, bone_weight >= 0 and at least one noise spec");
+           "finetune: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, "
+           "learning_rate > 0, "
+           "kl_anneal_epochs >= 0, threads >= 1, patience >= 1, bone_weight >= 0 and at least one "
+           "noise spec");
     }
     ParseNoisePrior(file, Section(file, root, "noise_prior", false), &c.noise_prior);
     ParseDenoise(file, Section(file, root, "denoise", false), &c.denoise);
@@ -189,7 +207,9 @@ DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) 
 
 }  // namespace
 
-DvaeTrainConfig LoadDvaeTrainConfig(const std::string& path) { return ParseTrainRoot(path, yaml_util::LoadFile(path)); }
+DvaeTrainConfig LoadDvaeTrainConfig(const std::string& path) {
+  return ParseTrainRoot(path, yaml_util::LoadFile(path));
+}
 
 DvaeTrainConfig ParseDvaeTrainConfig(const std::string& yaml_text, const std::string& source_name) {
   return ParseTrainRoot(source_name, yaml_util::LoadText(yaml_text, source_name));
@@ -201,8 +221,9 @@ DvaeManifest LoadDvaeManifest(const std::string& path) {
     DvaeManifest m;
     m.format = Get<std::string>(path, root, "format");
     if (m.format != kDvaeBundleFormat) {
-      Fail(path, root["format"], "format: expected '" + std::string(kDvaeBundleFormat) + "', found '" + m.format +
-                                     "' (a bundle from another version?)");
+      Fail(path, root["format"],
+           "format: expected '" + std::string(kDvaeBundleFormat) + "', found '" + m.format +
+               "' (a bundle from another version?)");
     }
     const YAML::Node p = Section(path, root, "protocol", true);
     m.protocol = Get<std::string>(path, p, "name");
@@ -214,14 +235,16 @@ DvaeManifest LoadDvaeManifest(const std::string& path) {
     m.std = Get<std::vector<double>>(path, norm, "std");
     const size_t values = 3 * m.skeleton.joint_names.size();
     if (m.mean.size() != values || m.std.size() != values) {
-      Fail(path, norm, "normalisation: expected " + std::to_string(values) + " means and stds (3 per joint)");
+      Fail(path, norm,
+           "normalisation: expected " + std::to_string(values) + " means and stds (3 per joint)");
     }
     ParseNoisePrior(path, Section(path, root, "noise_prior", true), &m.noise_prior);
     m.finetuned = GetOr<bool>(path, root, "finetuned", false);
     if (root["finetune_noise"]) m.finetune_noise = ParseNoiseList(path, root["finetune_noise"]);
     ParseDenoise(path, Section(path, root, "denoise", false), &m.denoise);
     if (const YAML::Node info = root["info"]) {
-      for (const auto& kv : info) m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
+      for (const auto& kv : info)
+        m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
     }
     return m;
   });

@@ -20,7 +20,8 @@ void ValidateGeneratorOptions(const GeneratorOptions& o) {
   if (o.blocks < 0) bad("blocks", o.blocks, "must be >= 0");
   if (o.nz < 1) bad("nz", o.nz, "must be >= 1");
   if (o.dropout < 0 || o.dropout >= 1) bad("dropout", o.dropout, "must be in [0, 1)");
-  if (o.partition.empty()) throw std::invalid_argument("generator: partition must name a partition");
+  if (o.partition.empty())
+    throw std::invalid_argument("generator: partition must name a partition");
 }
 
 }  // namespace motionfork

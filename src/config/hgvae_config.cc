@@ -15,7 +15,8 @@ const char* ToString(ImputeObjective objective) {
 ImputeObjective ParseImputeObjective(const std::string& text) {
   if (text == "posterior") return ImputeObjective::kPosterior;
   if (text == "joint") return ImputeObjective::kJoint;
-  throw std::invalid_argument("impute objective: expected 'posterior' or 'joint', got '" + text + "'");
+  throw std::invalid_argument("impute objective: expected 'posterior' or 'joint', got '" + text +
+                              "'");
 }
 
 void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {
@@ -26,17 +27,19 @@ void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {
     const std::string at = "levels[" + std::to_string(l) + "]";
     if (v.nodes < 0 || v.features < 1) fail(at + ": expected nodes >= 0 and features >= 1");
     if (num_coords > 0 && v.nodes > num_coords) {
-      fail(at + ": " + std::to_string(v.nodes) + " nodes, more than the " + std::to_string(num_coords) +
-           " coordinates of the full graph");
+      fail(at + ": " + std::to_string(v.nodes) + " nodes, more than the " +
+           std::to_string(num_coords) + " coordinates of the full graph");
     }
   }
   const int last = o.levels.back().nodes;
   if (last != 0 && (num_coords == 0 || last != num_coords)) {
     fail("the last (bottom) level must be the full graph: nodes 0 (= every coordinate)" +
-         (num_coords > 0 ? ", or " + std::to_string(num_coords) : std::string()) + "; got " + std::to_string(last));
+         (num_coords > 0 ? ", or " + std::to_string(num_coords) : std::string()) + "; got " +
+         std::to_string(last));
   }
   if (o.width < 1) fail("width: expected >= 1, got " + std::to_string(o.width));
-  if (o.encoder_blocks < 0 || o.decoder_blocks < 0) fail("encoder_blocks/decoder_blocks: expected >= 0");
+  if (o.encoder_blocks < 0 || o.decoder_blocks < 0)
+    fail("encoder_blocks/decoder_blocks: expected >= 0");
   if (o.stochastic_levels < 0 || o.stochastic_levels > static_cast<int>(o.levels.size())) {
     fail("stochastic_levels: expected 0 (all) .. " + std::to_string(o.levels.size()) + ", got " +
          std::to_string(o.stochastic_levels));
@@ -78,8 +81,8 @@ std::vector<HgvaeLevel> ParseLevels(const std::string& file, const YAML::Node& n
 
 void ParseModel(const std::string& file, const YAML::Node& n, HgvaeOptions* o) {
   CheckKeys(file, n, "model",
-            {"levels", "width", "encoder_blocks", "decoder_blocks", "stochastic_levels", "window", "label_dropout",
-             "predicted_variance"});
+            {"levels", "width", "encoder_blocks", "decoder_blocks", "stochastic_levels", "window",
+             "label_dropout", "predicted_variance"});
   if (n["levels"]) o->levels = ParseLevels(file, n["levels"]);
   o->width = GetOr<int>(file, n, "width", o->width);
   o->encoder_blocks = GetOr<int>(file, n, "encoder_blocks", o->encoder_blocks);
@@ -101,7 +104,8 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
       Fail(file, n["objective"], e.what());
     }
   }
-  if (o->steps < 0 || !(o->learning_rate > 0)) Fail(file, n, "impute: expected steps >= 0 and learning_rate > 0");
+  if (o->steps < 0 || !(o->learning_rate > 0))
+    Fail(file, n, "impute: expected steps >= 0 and learning_rate > 0");
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
@@ -115,7 +119,8 @@ void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
 void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
   out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "levels" << YAML::Value << YAML::BeginSeq;
-  for (const HgvaeLevel& l : o.levels) out << YAML::Flow << YAML::BeginSeq << l.nodes << l.features << YAML::EndSeq;
+  for (const HgvaeLevel& l : o.levels)
+    out << YAML::Flow << YAML::BeginSeq << l.nodes << l.features << YAML::EndSeq;
   out << YAML::EndSeq;
   out << YAML::Key << "width" << YAML::Value << o.width;
   out << YAML::Key << "encoder_blocks" << YAML::Value << o.encoder_blocks;
@@ -149,8 +154,9 @@ HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root)
     ValidateHgvaeOptions(c.model, 0);
     const YAML::Node t = Section(file, root, "training", false);
     CheckKeys(file, t, "training",
-              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip", "kl_warmup_epochs",
-               "kl_start", "condition", "held_out_share", "held_out_windows", "seed", "threads"});
+              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip",
+               "kl_warmup_epochs", "kl_start", "condition", "held_out_share", "held_out_windows",
+               "seed", "threads"});
     HgvaeTrainOptions& o = c.training;
     o.epochs = GetOr<int>(file, t, "epochs", o.epochs);
     o.windows_per_epoch = GetOr<int>(file, t, "windows_per_epoch", o.windows_per_epoch);
@@ -164,20 +170,24 @@ HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root)
     o.held_out_windows = GetOr<int>(file, t, "held_out_windows", o.held_out_windows);
     o.seed = GetOr<uint64_t>(file, t, "seed", o.seed);
     o.threads = GetOr<int>(file, t, "threads", o.threads);
-    if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size || !(o.learning_rate > 0) ||
-        o.kl_warmup_epochs < 0 || o.threads < 1 || !(o.held_out_share > 0 && o.held_out_share < 1)) {
+    if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size ||
+        !(o.learning_rate > 0) || o.kl_warmup_epochs < 0 || o.threads < 1 ||
+        !(o.held_out_share > 0 && o.held_out_share < 1)) {
       Fail(file, t,
-           "training: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, learning_rate > 0, "
+           "training: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, "
+           "learning_rate > 0, "
            "kl_warmup_epochs >= 0, threads >= 1, 0 < held_out_share < 1");
     }
     if (!o.condition.empty() && o.condition != "action") {
-      Fail(file, t["condition"], "training.condition: expected '' (none) or 'action', got '" + o.condition + "'");
+      Fail(file, t["condition"],
+           "training.condition: expected '' (none) or 'action', got '" + o.condition + "'");
     }
     ParseImpute(file, Section(file, root, "impute", false), &c.impute);
     const YAML::Node ood = Section(file, root, "ood", false);
     CheckKeys(file, ood, "ood", {"k", "score"});
     c.ood_k = GetOr<double>(file, ood, "k", c.ood_k);
-    c.ood_score = ParseImputeObjective(GetOr<std::string>(file, ood, "score", ToString(c.ood_score)));
+    c.ood_score =
+        ParseImputeObjective(GetOr<std::string>(file, ood, "score", ToString(c.ood_score)));
     return c;
   });
 }
@@ -188,7 +198,8 @@ HgvaeTrainConfig LoadHgvaeTrainConfig(const std::string& path) {
   return ParseTrainRoot(path, yaml_util::LoadFile(path));
 }
 
-HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text, const std::string& source_name) {
+HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text,
+                                       const std::string& source_name) {
   return ParseTrainRoot(source_name, yaml_util::LoadText(yaml_text, source_name));
 }
 
@@ -198,8 +209,9 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path) {
     HgvaeManifest m;
     m.format = Get<std::string>(path, root, "format");
     if (m.format != kHgvaeBundleFormat) {
-      Fail(path, root["format"], "format: expected '" + std::string(kHgvaeBundleFormat) + "', found '" + m.format +
-                                     "' (a bundle from another version?)");
+      Fail(path, root["format"],
+           "format: expected '" + std::string(kHgvaeBundleFormat) + "', found '" + m.format +
+               "' (a bundle from another version?)");
     }
     const YAML::Node p = Section(path, root, "protocol", true);
     m.protocol = Get<std::string>(path, p, "name");
@@ -212,7 +224,9 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path) {
     m.std = Get<std::vector<double>>(path, norm, "std");
     const int coords = 3 * (static_cast<int>(m.skeleton.joint_names.size()) - 1);
     if (static_cast<int>(m.mean.size()) != coords || static_cast<int>(m.std.size()) != coords) {
-      Fail(path, norm, "normalisation: expected " + std::to_string(coords) + " means and stds (3 per non-root joint)");
+      Fail(path, norm,
+           "normalisation: expected " + std::to_string(coords) +
+               " means and stds (3 per non-root joint)");
     }
     ValidateHgvaeOptions(m.model, coords);
     const YAML::Node ood = Section(path, root, "ood", true);
@@ -223,7 +237,8 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path) {
     m.ood_score = ParseImputeObjective(GetOr<std::string>(path, ood, "score", "posterior"));
     ParseImpute(path, Section(path, root, "impute", false), &m.impute);
     if (const YAML::Node info = root["info"]) {
-      for (const auto& kv : info) m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
+      for (const auto& kv : info)
+        m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
     }
     return m;
   });

@@ -10,7 +10,8 @@
 namespace motionfork {
 
 HgvaeTrainConfig LoadHgvaeTrainConfig(const std::string& path);
-HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text, const std::string& source_name);
+HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text,
+                                       const std::string& source_name);
 
 HgvaeManifest LoadHgvaeManifest(const std::string& path);
 // Parsing the result gives the manifest back exactly (doubles with 17 digits).

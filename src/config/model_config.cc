@@ -15,8 +15,9 @@ ModelConfig LoadModelConfig(const std::string& path) {
   try {
     c.format = Get<std::string>(path, root, "format");
     if (c.format != kGeneratorBundleFormat) {
-      Fail(path, root["format"], "format: expected '" + std::string(kGeneratorBundleFormat) +
-                                     "', found '" + c.format + "' (a bundle from another version?)");
+      Fail(path, root["format"],
+           "format: expected '" + std::string(kGeneratorBundleFormat) + "', found '" + c.format +
+               "' (a bundle from another version?)");
     }
     const YAML::Node p = root["protocol"];
     if (!p) Fail(path, root, "missing mapping 'protocol'");

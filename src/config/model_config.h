@@ -6,8 +6,8 @@
 #include <map>
 #include <string>
 
-#include "core/skeleton.h"
 #include "config/generator_options.h"
+#include "core/skeleton.h"
 
 namespace motionfork {
 
@@ -15,10 +15,10 @@ constexpr const char* kGeneratorBundleFormat = "motionfork-generator-1";
 
 struct ModelConfig {
   std::string format = kGeneratorBundleFormat;
-  std::string protocol;        // protocol name the model was trained under
-  double fps = 0;              // Hz
-  GeneratorOptions generator;  // includes t_his, t_pred, num_nodes, partition
-  SkeletonSpec skeleton;       // the protocol skeleton, parts as joint lists
+  std::string protocol;                     // protocol name the model was trained under
+  double fps = 0;                           // Hz
+  GeneratorOptions generator;               // includes t_his, t_pred, num_nodes, partition
+  SkeletonSpec skeleton;                    // the protocol skeleton, parts as joint lists
   std::map<std::string, std::string> info;  // free-form provenance (command, seed, epochs, ...)
 };
 

@@ -16,9 +16,12 @@ const char* ToString(SourceFormat format) {
 
 const char* ToString(RootHandling root) {
   switch (root) {
-    case RootHandling::kRelativeDrop: return "relative_drop";
-    case RootHandling::kRelative: return "relative";
-    case RootHandling::kAbsolute: return "absolute";
+    case RootHandling::kRelativeDrop:
+      return "relative_drop";
+    case RootHandling::kRelative:
+      return "relative";
+    case RootHandling::kAbsolute:
+      return "absolute";
   }
   return "?";
 }
@@ -47,11 +50,13 @@ void ValidateProtocol(const ProtocolOptions& o) {
       std::regex re(o.label_pattern);
       const int groups = static_cast<int>(re.mark_count());
       if (o.label_action_group > groups || o.label_subject_group > groups) {
-        bad("labels", o.label_pattern, "action/subject group numbers must be <= the pattern's " +
-                                           std::to_string(groups) + " groups");
+        bad("labels", o.label_pattern,
+            "action/subject group numbers must be <= the pattern's " + std::to_string(groups) +
+                " groups");
       }
     } catch (const std::regex_error& e) {
-      bad("labels.pattern", o.label_pattern, std::string("must be a valid regex (") + e.what() + ")");
+      bad("labels.pattern", o.label_pattern,
+          std::string("must be a valid regex (") + e.what() + ")");
     }
   }
 }
@@ -64,14 +69,16 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
     o.name = Get<std::string>(path, root, "name");
     o.skeleton = Get<std::string>(path, root, "skeleton");
     const YAML::Node source = root["source"];
-    if (!source || !source.IsMap()) Fail(path, root, "missing mapping 'source' (format, unit_scale)");
+    if (!source || !source.IsMap())
+      Fail(path, root, "missing mapping 'source' (format, unit_scale)");
     const std::string fmt = Get<std::string>(path, source, "format");
     if (fmt == "bvh") {
       o.format = SourceFormat::kBvh;
     } else if (fmt == "videopose3d") {
       o.format = SourceFormat::kVideoPose3d;
     } else {
-      Fail(path, source["format"], "source.format: expected 'bvh' or 'videopose3d', found '" + fmt + "'");
+      Fail(path, source["format"],
+           "source.format: expected 'bvh' or 'videopose3d', found '" + fmt + "'");
     }
     o.unit_scale = GetOr<double>(path, source, "unit_scale", 1.0);
     o.fps = Get<double>(path, root, "fps");
@@ -87,7 +94,8 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
     } else if (r == "absolute") {
       o.root = RootHandling::kAbsolute;
     } else {
-      Fail(path, root["root"], "root: expected relative_drop, relative or absolute, found '" + r + "'");
+      Fail(path, root["root"],
+           "root: expected relative_drop, relative or absolute, found '" + r + "'");
     }
     if (const YAML::Node split = root["split"]) {
       o.split_file = GetOr<std::string>(path, split, "file", "");
@@ -95,9 +103,11 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
       o.test_subjects = yaml_util::StringList(path, split["test"], "split.test");
     }
     if (const YAML::Node drops = root["drop_takes"]) {
-      if (!drops.IsSequence()) Fail(path, drops, "drop_takes: expected a list of [subject, action]");
+      if (!drops.IsSequence())
+        Fail(path, drops, "drop_takes: expected a list of [subject, action]");
       for (const YAML::Node& d : drops) {
-        if (!d.IsSequence() || d.size() != 2) Fail(path, d, "drop_takes: expected [subject, action]");
+        if (!d.IsSequence() || d.size() != 2)
+          Fail(path, d, "drop_takes: expected [subject, action]");
         o.drop_takes.emplace_back(d[0].as<std::string>(), d[1].as<std::string>());
       }
     }

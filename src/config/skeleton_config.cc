@@ -74,7 +74,8 @@ SkeletonConfig LoadSkeletonConfig(const std::string& path) {
     const auto pairs = ReadPairs(path, root["left_right"]);
     const auto partitions = ReadPartitions(path, root["partitions"]);
     if (source) {
-      const std::string source_name = yaml_util::GetOr<std::string>(path, source, "name", name + "_source");
+      const std::string source_name =
+          yaml_util::GetOr<std::string>(path, source, "name", name + "_source");
       out.source = std::make_shared<const Skeleton>(
           Skeleton::Build(ReadJoints(path, source["joints"], source_name)));
       JointSelectionSpec sel;
@@ -83,7 +84,8 @@ SkeletonConfig LoadSkeletonConfig(const std::string& path) {
       if (sel.keep.empty()) sel.keep = out.source->joint_names();
       if (const YAML::Node rep = root["reparent"]) {
         if (!rep.IsMap()) Fail(path, rep, "'reparent' must map joint -> new parent");
-        for (const auto& kv : rep) sel.reparent[kv.first.as<std::string>()] = kv.second.as<std::string>();
+        for (const auto& kv : rep)
+          sel.reparent[kv.first.as<std::string>()] = kv.second.as<std::string>();
       }
       sel.left_right = pairs;
       sel.partitions = partitions;
@@ -117,7 +119,8 @@ Motion ConformToSkeleton(const Motion& motion, const SkeletonConfig& config) {
     return true;
   };
   // By names: the protocol's joints in any order, or the source's (then selected).
-  if (has_all(*config.skeleton)) return ApplySelection(motion, JointSelection{*config.skeleton, {}});
+  if (has_all(*config.skeleton))
+    return ApplySelection(motion, JointSelection{*config.skeleton, {}});
   if (config.selection && has_all(*config.source)) return ApplySelection(motion, *config.selection);
   // By count, for files that store no names.
   if (have.is_anonymous() && have.joint_name(0) == "j0") {
@@ -128,11 +131,11 @@ Motion ConformToSkeleton(const Motion& motion, const SkeletonConfig& config) {
       Motion source(config.source, motion.fps(), motion.positions());
       return config.selection ? ApplySelection(source, *config.selection) : source;
     }
-    throw std::invalid_argument("a motion with " + std::to_string(have.num_joints()) +
-                                " unnamed joints does not fit skeleton '" + config.skeleton->name() +
-                                "' (expected " + std::to_string(config.skeleton->num_joints()) +
-                                " or, before joint selection, " +
-                                std::to_string(config.source->num_joints()) + " joints)");
+    throw std::invalid_argument(
+        "a motion with " + std::to_string(have.num_joints()) +
+        " unnamed joints does not fit skeleton '" + config.skeleton->name() + "' (expected " +
+        std::to_string(config.skeleton->num_joints()) + " or, before joint selection, " +
+        std::to_string(config.source->num_joints()) + " joints)");
   }
   std::string list;
   for (const std::string& n : config.skeleton->joint_names()) {

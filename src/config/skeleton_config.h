@@ -16,10 +16,10 @@
 namespace motionfork {
 
 struct SkeletonConfig {
-  std::string path;                           // the YAML file it came from
-  std::shared_ptr<const Skeleton> source;     // as stored in the dataset's files
-  std::shared_ptr<const Skeleton> skeleton;   // the protocol skeleton (source when nothing is cut)
-  std::optional<JointSelection> selection;    // source -> skeleton, when joints are cut
+  std::string path;                          // the YAML file it came from
+  std::shared_ptr<const Skeleton> source;    // as stored in the dataset's files
+  std::shared_ptr<const Skeleton> skeleton;  // the protocol skeleton (source when nothing is cut)
+  std::optional<JointSelection> selection;   // source -> skeleton, when joints are cut
 };
 
 // Throws FormatError naming the file and line for YAML problems and the offending joint for

@@ -23,7 +23,9 @@ SkeletonSpec ParseSkeletonSpec(const std::string& path, const YAML::Node& root) 
     PartitionSpec ps{Get<std::string>(path, pn, "name"), {}};
     for (const YAML::Node& part : pn["parts"]) {
       ps.parts.push_back(PartSpec{Get<std::string>(path, part, "name"),
-                                  yaml_util::StringList(path, part["joints"], "joints"), {}, false});
+                                  yaml_util::StringList(path, part["joints"], "joints"),
+                                  {},
+                                  false});
     }
     spec.partitions.push_back(std::move(ps));
   }
@@ -45,7 +47,8 @@ void EmitSkeletonSpec(YAML::Emitter& out, const SkeletonSpec& spec) {
   }
   out << YAML::EndSeq;
   out << YAML::Key << "left_right" << YAML::Value << YAML::BeginSeq;
-  for (const auto& [l, r] : spec.left_right) out << YAML::Flow << YAML::BeginSeq << l << r << YAML::EndSeq;
+  for (const auto& [l, r] : spec.left_right)
+    out << YAML::Flow << YAML::BeginSeq << l << r << YAML::EndSeq;
   out << YAML::EndSeq;
   out << YAML::Key << "partitions" << YAML::Value << YAML::BeginSeq;
   for (const PartitionSpec& p : spec.partitions) {

@@ -80,13 +80,15 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
       if (!ok) throw std::invalid_argument(what);
     };
     rule(parts >= 1, "training.samples_per_part needs one count per body part");
-    for (int64_t n : t.samples_per_part) rule(n >= 1, "training.samples_per_part entries must be >= 1");
+    for (int64_t n : t.samples_per_part)
+      rule(n >= 1, "training.samples_per_part entries must be >= 1");
     rule(c.losses.diversity.size() == parts && c.losses.diversity_scale.size() == parts,
          "losses.diversity and losses.diversity_scale need one value per body part (" +
              std::to_string(parts) + ", as training.samples_per_part)");
     rule(t.batch_histories >= 1, "training.batch_histories must be >= 1");
     rule(t.epochs >= 1, "training.epochs must be >= 1");
-    rule(t.windows_per_epoch >= t.batch_histories, "training.windows_per_epoch must be >= batch_histories");
+    rule(t.windows_per_epoch >= t.batch_histories,
+         "training.windows_per_epoch must be >= batch_histories");
     rule(t.lr_constant_epochs >= 0 && t.lr_constant_epochs <= t.epochs,
          "training.lr_constant_epochs must be in 0..epochs");
     rule(t.learning_rate > 0, "training.learning_rate must be > 0");

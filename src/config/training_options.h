@@ -10,14 +10,14 @@
 namespace motionfork {
 
 struct LossWeights {
-  double past_reconstruction = 100;  // squared error of the reconstructed history
-  double limb_length = 500;          // predicted bone lengths vs the history's last frame
-  std::vector<double> diversity;     // per part; GSPS H36M: 8, 25
+  double past_reconstruction = 100;     // squared error of the reconstructed history
+  double limb_length = 500;             // predicted bone lengths vs the history's last frame
+  std::vector<double> diversity;        // per part; GSPS H36M: 8, 25
   std::vector<double> diversity_scale;  // per part: alpha in exp(-d / alpha); GSPS H36M: 100, 300
-  double best_of_many = 2;           // min over samples of the future's squared error
-  double multimodal = 1;             // the same against pseudo multimodal futures
-  double prior_nll = 0.01;           // flow-prior NLL of predicted poses (needs a prior)
-  double angle = 100;                // angle-range penalty (needs constraints)
+  double best_of_many = 2;              // min over samples of the future's squared error
+  double multimodal = 1;                // the same against pseudo multimodal futures
+  double prior_nll = 0.01;              // flow-prior NLL of predicted poses (needs a prior)
+  double angle = 100;                   // angle-range penalty (needs constraints)
 };
 
 struct MultimodalOptions {
@@ -31,11 +31,11 @@ struct TrainingOptions {
   int batch_histories = 16;
   int epochs = 500;
   int windows_per_epoch = 5000;
-  int lr_constant_epochs = 100;     // then linear decay to 0 at `epochs`
+  int lr_constant_epochs = 100;  // then linear decay to 0 at `epochs`
   double learning_rate = 1e-3;
   double grad_clip = 100;
-  int window_stride = 5;            // training windows: every 5th start in every clip
-  int prior_frame_step = 3;         // prior NLL on every 3rd predicted frame (random offset)
+  int window_stride = 5;     // training windows: every 5th start in every clip
+  int prior_frame_step = 3;  // prior NLL on every 3rd predicted frame (random offset)
   uint64_t seed = 0;
   int threads = 1;
 };
@@ -43,10 +43,10 @@ struct TrainingOptions {
 struct GeneratorTrainConfig {
   std::string path;
   std::string name;
-  std::string protocol;            // protocol config name or path
-  std::string prior;               // prior bundle folder ("" = no prior loss)
-  std::string constraints;         // constraints config name or path ("" = no angle loss)
-  GeneratorOptions generator;      // t_his, t_pred, num_nodes come from the protocol
+  std::string protocol;        // protocol config name or path
+  std::string prior;           // prior bundle folder ("" = no prior loss)
+  std::string constraints;     // constraints config name or path ("" = no angle loss)
+  GeneratorOptions generator;  // t_his, t_pred, num_nodes come from the protocol
   LossWeights losses;
   MultimodalOptions multimodal;
   TrainingOptions training;

@@ -84,7 +84,7 @@ inline YAML::Node LoadText(const std::string& text, const std::string& source) {
 
 // Rejects keys outside `known` (typos would otherwise silently keep a default).
 inline void CheckKeys(const std::string& file, const YAML::Node& map, const std::string& section,
-               const std::set<std::string>& known) {
+                      const std::set<std::string>& known) {
   for (const auto& kv : map) {
     const std::string key = kv.first.as<std::string>();
     if (known.count(key)) continue;
@@ -97,7 +97,7 @@ inline void CheckKeys(const std::string& file, const YAML::Node& map, const std:
 }
 
 inline YAML::Node Section(const std::string& file, const YAML::Node& root, const std::string& key,
-                   bool required) {
+                          bool required) {
   const YAML::Node n = root[key];
   if (!n || n.IsNull()) {
     if (required) Fail(file, root, "missing mapping '" + key + "'");

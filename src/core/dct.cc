@@ -34,8 +34,7 @@ Eigen::MatrixXf InverseDct(const Eigen::MatrixXf& coeffs, int num_frames) {
   const int n = static_cast<int>(coeffs.rows());
   if (n < 1 || n > num_frames) {
     throw std::invalid_argument("InverseDct: expected 1 <= coefficients <= " +
-                                std::to_string(num_frames) + " (frames), got " +
-                                std::to_string(n));
+                                std::to_string(num_frames) + " (frames), got " + std::to_string(n));
   }
   const Eigen::MatrixXd d = DctMatrix(num_frames).topRows(n);
   return (d.transpose() * coeffs.cast<double>()).cast<float>();

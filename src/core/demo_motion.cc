@@ -19,11 +19,11 @@ constexpr double kPi = 3.14159265358979323846;
 // +y along the spine, +z forward).
 constexpr double kThigh = 0.39, kShin = 0.41, kAnkleHeight = 0.11;
 constexpr double kUpperArm = 0.245, kForearm = 0.225;
-const Vector3d kHipOffset(0.0647, -0.0219, 0);     // Hips -> UpperLeg_L (x mirrored for _R)
-const Vector3d kSpineOffset(0, 0.1574, 0);         // Hips -> Spine
-const Vector3d kChestOffset(0, 0.0899, -0.0017);   // Spine -> Chest
-const Vector3d kNeckOffset(0, 0.1632, -0.0095);    // Chest -> Neck
-const Vector3d kHeadOffset(0, 0.0634, -0.0111);    // Neck -> Head
+const Vector3d kHipOffset(0.0647, -0.0219, 0);         // Hips -> UpperLeg_L (x mirrored for _R)
+const Vector3d kSpineOffset(0, 0.1574, 0);             // Hips -> Spine
+const Vector3d kChestOffset(0, 0.0899, -0.0017);       // Spine -> Chest
+const Vector3d kNeckOffset(0, 0.1632, -0.0095);        // Chest -> Neck
+const Vector3d kHeadOffset(0, 0.0634, -0.0111);        // Neck -> Head
 const Vector3d kShoulderOffset(0.102, 0.127, -0.006);  // Chest -> UpperArm_L (x mirrored for _R)
 
 // Direction in the sagittal plane: down (0, -1, 0) turned forward (+Z) by angle a (radians).
@@ -35,29 +35,35 @@ Vector3d Swing(double a, double outward = 0) {
 
 Motion MakeDemoWalk(std::shared_ptr<const Skeleton> skeleton, const DemoWalkOptions& o) {
   if (!skeleton) throw std::invalid_argument("MakeDemoWalk: no skeleton");
-  if (o.frames < 1) throw std::invalid_argument("MakeDemoWalk: frames must be >= 1, got " + std::to_string(o.frames));
+  if (o.frames < 1)
+    throw std::invalid_argument("MakeDemoWalk: frames must be >= 1, got " +
+                                std::to_string(o.frames));
   if (!(o.fps > 0) || !std::isfinite(o.fps)) {
-    throw std::invalid_argument("MakeDemoWalk: fps must be a finite number > 0, got " + std::to_string(o.fps));
+    throw std::invalid_argument("MakeDemoWalk: fps must be a finite number > 0, got " +
+                                std::to_string(o.fps));
   }
   if (!std::isfinite(o.stride_hz) || !std::isfinite(o.speed) || !std::isfinite(o.heading_deg) ||
       !std::isfinite(o.phase)) {
-    throw std::invalid_argument("MakeDemoWalk: stride_hz, speed, heading_deg and phase must be finite");
+    throw std::invalid_argument(
+        "MakeDemoWalk: stride_hz, speed, heading_deg and phase must be finite");
   }
-  static const char* const kJoints[] = {"Hips",       "Spine",      "Chest",      "Neck",       "Head",
-                                        "UpperLeg_L", "LowerLeg_L", "Foot_L",     "UpperLeg_R", "LowerLeg_R",
-                                        "Foot_R",     "UpperArm_L", "LowerArm_L", "Hand_L",     "UpperArm_R",
-                                        "LowerArm_R", "Hand_R"};
+  static const char* const kJoints[] = {
+      "Hips",       "Spine",  "Chest",      "Neck",       "Head",   "UpperLeg_L",
+      "LowerLeg_L", "Foot_L", "UpperLeg_R", "LowerLeg_R", "Foot_R", "UpperArm_L",
+      "LowerArm_L", "Hand_L", "UpperArm_R", "LowerArm_R", "Hand_R"};
   for (const char* name : kJoints) {
     if (!skeleton->Find(name)) {
-      throw std::invalid_argument("MakeDemoWalk: skeleton '" + skeleton->name() + "' has no joint '" + name +
+      throw std::invalid_argument("MakeDemoWalk: skeleton '" + skeleton->name() +
+                                  "' has no joint '" + name +
                                   "'; the demo walk is made for the Bandai protocol skeleton");
     }
   }
   for (const std::string& name : skeleton->joint_names()) {
-    if (std::find_if(std::begin(kJoints), std::end(kJoints), [&](const char* k) { return name == k; }) ==
-        std::end(kJoints)) {
-      throw std::invalid_argument("MakeDemoWalk: skeleton '" + skeleton->name() + "' has joint '" + name +
-                                  "', which the demo walk does not know (Bandai protocol skeleton only)");
+    if (std::find_if(std::begin(kJoints), std::end(kJoints),
+                     [&](const char* k) { return name == k; }) == std::end(kJoints)) {
+      throw std::invalid_argument(
+          "MakeDemoWalk: skeleton '" + skeleton->name() + "' has joint '" + name +
+          "', which the demo walk does not know (Bandai protocol skeleton only)");
     }
   }
 
@@ -71,7 +77,8 @@ Motion MakeDemoWalk(std::shared_ptr<const Skeleton> skeleton, const DemoWalkOpti
     std::map<std::string, Vector3d> p;  // in the walker's frame: +X left, +Y up, +Z forward
     // The pelvis (and the trunk on it) tilts forward a little: +y turns toward +z.
     const double lean = 0.05 + 0.015 * std::cos(2 * phi);
-    const Eigen::Matrix3d pelvis_frame = Eigen::AngleAxisd(lean, Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Matrix3d pelvis_frame =
+        Eigen::AngleAxisd(lean, Vector3d::UnitX()).toRotationMatrix();
     auto body = [&](const Vector3d& offset, int side) {
       return Vector3d(pelvis_frame * Vector3d(side * offset.x(), offset.y(), offset.z()));
     };
@@ -82,7 +89,8 @@ Motion MakeDemoWalk(std::shared_ptr<const Skeleton> skeleton, const DemoWalkOpti
       const std::string sfx = s > 0 ? "_L" : "_R";
       const double a = phi + (s > 0 ? 0 : kPi);
       const double thigh = 0.08 + 0.36 * std::sin(a);  // flexion forward, less extension back
-      const double knee = 0.08 + 1.1 * std::pow(std::max(0.0, std::cos(a - 0.5)), 3);  // swing flexion
+      const double knee =
+          0.08 + 1.1 * std::pow(std::max(0.0, std::cos(a - 0.5)), 3);  // swing flexion
       const Vector3d hip = body(kHipOffset, s);
       const Vector3d knee_pos = hip + kThigh * Swing(thigh);
       const Vector3d ankle = knee_pos + kShin * Swing(thigh - knee);
@@ -113,7 +121,8 @@ Motion MakeDemoWalk(std::shared_ptr<const Skeleton> skeleton, const DemoWalkOpti
     }
     for (int j = 0; j < J; ++j) {
       const Vector3d w = turn * p.at(skeleton->joint_name(j));
-      for (int c = 0; c < 3; ++c) positions[(static_cast<size_t>(t) * J + j) * 3 + c] = static_cast<float>(w[c]);
+      for (int c = 0; c < 3; ++c)
+        positions[(static_cast<size_t>(t) * J + j) * 3 + c] = static_cast<float>(w[c]);
     }
   }
   return Motion(std::move(skeleton), o.fps, std::move(positions));

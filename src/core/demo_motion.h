@@ -13,10 +13,10 @@ namespace motionfork {
 struct DemoWalkOptions {
   int frames = 60;
   double fps = 30;
-  double stride_hz = 0.9;    // gait cycles (two steps) per second
-  double speed = 1.2;        // metres per second, forward
-  double heading_deg = 0;    // walking direction, degrees about +Y from +Z
-  double phase = 0;          // radians into the gait cycle at frame 0
+  double stride_hz = 0.9;  // gait cycles (two steps) per second
+  double speed = 1.2;      // metres per second, forward
+  double heading_deg = 0;  // walking direction, degrees about +Y from +Z
+  double phase = 0;        // radians into the gait cycle at frame 0
 };
 
 // The skeleton must hold the Bandai protocol joints by name (Hips, Spine, Chest, Neck, Head,

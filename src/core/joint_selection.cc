@@ -50,8 +50,9 @@ JointSelection SelectJoints(const Skeleton& source, const JointSelectionSpec& sp
   for (size_t k = 1; k < spec.keep.size(); ++k) {
     const auto parent = std::find(spec.keep.begin(), spec.keep.end(), out.parent_names[k]);
     if (parent - spec.keep.begin() > static_cast<long>(k)) {
-      throw std::invalid_argument(who + ": joint '" + spec.keep[k] + "' is kept before its parent '" +
-                                  out.parent_names[k] + "'; list parents before their children");
+      throw std::invalid_argument(who + ": joint '" + spec.keep[k] +
+                                  "' is kept before its parent '" + out.parent_names[k] +
+                                  "'; list parents before their children");
     }
   }
   out.left_right = spec.left_right;

@@ -15,16 +15,16 @@
 namespace motionfork {
 
 struct JointSelectionSpec {
-  std::string name;                              // name of the resulting skeleton
-  std::vector<std::string> keep;                 // source joint names, in the new order (root first)
-  std::map<std::string, std::string> reparent;   // kept joint -> kept parent overriding the default
+  std::string name;                             // name of the resulting skeleton
+  std::vector<std::string> keep;                // source joint names, in the new order (root first)
+  std::map<std::string, std::string> reparent;  // kept joint -> kept parent overriding the default
   std::vector<std::pair<std::string, std::string>> left_right;  // pairs in the new skeleton
-  std::vector<PartitionSpec> partitions;                      // parts in the new skeleton
+  std::vector<PartitionSpec> partitions;                        // parts in the new skeleton
 };
 
 struct JointSelection {
-  Skeleton skeleton;               // the new skeleton
-  std::vector<int> source_index;   // new joint j = source joint source_index[j]
+  Skeleton skeleton;              // the new skeleton
+  std::vector<int> source_index;  // new joint j = source joint source_index[j]
 };
 
 // Throws std::invalid_argument naming the unknown joint, a duplicate, or an order in which a

@@ -15,10 +15,9 @@ Motion::Motion(std::shared_ptr<const Skeleton> skeleton, double fps, std::vector
   }
   const size_t per_frame = stride();
   if (positions_.size() % per_frame != 0) {
-    throw std::invalid_argument("Motion: expected positions [T, " +
-                                std::to_string(num_joints()) + ", 3] (a multiple of " +
-                                std::to_string(per_frame) + " values), got " +
-                                std::to_string(positions_.size()) + " values");
+    throw std::invalid_argument("Motion: expected positions [T, " + std::to_string(num_joints()) +
+                                ", 3] (a multiple of " + std::to_string(per_frame) +
+                                " values), got " + std::to_string(positions_.size()) + " values");
   }
   num_frames_ = static_cast<int>(positions_.size() / per_frame);
   for (size_t i = 0; i < positions_.size(); ++i) {
@@ -32,11 +31,12 @@ Motion::Motion(std::shared_ptr<const Skeleton> skeleton, double fps, std::vector
 
 Motion Motion::Slice(int begin, int end) const {
   if (begin < 0 || end > num_frames_ || begin > end) {
-    throw std::invalid_argument("Motion::Slice: expected 0 <= begin <= end <= " +
-                                std::to_string(num_frames_) + ", got [" + std::to_string(begin) +
-                                ", " + std::to_string(end) + ")");
+    throw std::invalid_argument(
+        "Motion::Slice: expected 0 <= begin <= end <= " + std::to_string(num_frames_) + ", got [" +
+        std::to_string(begin) + ", " + std::to_string(end) + ")");
   }
-  std::vector<float> out(positions_.begin() + begin * stride(), positions_.begin() + end * stride());
+  std::vector<float> out(positions_.begin() + begin * stride(),
+                         positions_.begin() + end * stride());
   return Motion(skeleton_, fps_, std::move(out));
 }
 

@@ -12,7 +12,8 @@ std::vector<double> Numbers(const std::string& text, const std::string& list) {
   size_t pos = 0;
   while (pos <= list.size()) {
     const size_t comma = list.find(',', pos);
-    const std::string item = list.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+    const std::string item =
+        list.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
     size_t used = 0;
     double v = 0;
     try {
@@ -33,27 +34,33 @@ std::vector<double> Numbers(const std::string& text, const std::string& list) {
 }  // namespace
 
 NoiseSpec ParseNoiseSpec(const std::string& text) {
-  const std::string forms = " (expected gaussian:S, outliers:P,S or jitter:S; S in metres, P in [0, 1])";
+  const std::string forms =
+      " (expected gaussian:S, outliers:P,S or jitter:S; S in metres, P in [0, 1])";
   const size_t colon = text.find(':');
-  if (colon == std::string::npos) throw std::invalid_argument("noise '" + text + "': no ':'" + forms);
+  if (colon == std::string::npos)
+    throw std::invalid_argument("noise '" + text + "': no ':'" + forms);
   const std::string kind = text.substr(0, colon);
   const std::vector<double> v = Numbers(text, text.substr(colon + 1));
   NoiseSpec s;
   s.text = text;
   if (kind == "gaussian" || kind == "jitter") {
-    if (v.size() != 1) throw std::invalid_argument("noise '" + text + "': expected one number" + forms);
+    if (v.size() != 1)
+      throw std::invalid_argument("noise '" + text + "': expected one number" + forms);
     s.kind = kind == "gaussian" ? NoiseSpec::Kind::kGaussian : NoiseSpec::Kind::kJitter;
     s.sigma = v[0];
   } else if (kind == "outliers") {
-    if (v.size() != 2) throw std::invalid_argument("noise '" + text + "': expected two numbers" + forms);
+    if (v.size() != 2)
+      throw std::invalid_argument("noise '" + text + "': expected two numbers" + forms);
     s.kind = NoiseSpec::Kind::kOutliers;
     s.rate = v[0];
     s.sigma = v[1];
-    if (s.rate < 0 || s.rate > 1) throw std::invalid_argument("noise '" + text + "': P must be in [0, 1]" + forms);
+    if (s.rate < 0 || s.rate > 1)
+      throw std::invalid_argument("noise '" + text + "': P must be in [0, 1]" + forms);
   } else {
     throw std::invalid_argument("noise '" + text + "': unknown kind '" + kind + "'" + forms);
   }
-  if (!(s.sigma >= 0) || s.sigma > 10) throw std::invalid_argument("noise '" + text + "': S must be in [0, 10] metres");
+  if (!(s.sigma >= 0) || s.sigma > 10)
+    throw std::invalid_argument("noise '" + text + "': S must be in [0, 10] metres");
   return s;
 }
 

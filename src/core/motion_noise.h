@@ -28,7 +28,8 @@ struct NoiseSpec {
 NoiseSpec ParseNoiseSpec(const std::string& text);
 
 // Adds the noise to positions [frames, joints, 3] in place.
-void AddNoise(const NoiseSpec& spec, float* positions, int frames, int joints, std::mt19937_64& rng);
+void AddNoise(const NoiseSpec& spec, float* positions, int frames, int joints,
+              std::mt19937_64& rng);
 // A noisy copy; the same seed gives the same noise.
 Motion AddNoise(const Motion& motion, const NoiseSpec& spec, uint64_t seed);
 

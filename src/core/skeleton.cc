@@ -40,11 +40,10 @@ void Skeleton::Validate() const {
                                   std::to_string(parents_[0]));
     }
     if (j > 0 && (parents_[j] < 0 || parents_[j] >= j)) {
-      throw std::invalid_argument(
-          who + ": joint '" + names_[j] + "' (index " + std::to_string(j) +
-          ") must have a parent listed before it (index 0.." + std::to_string(j - 1) + "), got " +
-          std::to_string(parents_[j]) +
-          (parents_[j] < 0 ? " (only the first joint may be a root)" : ""));
+      throw std::invalid_argument(who + ": joint '" + names_[j] + "' (index " + std::to_string(j) +
+                                  ") must have a parent listed before it (index 0.." +
+                                  std::to_string(j - 1) + "), got " + std::to_string(parents_[j]) +
+                                  (parents_[j] < 0 ? " (only the first joint may be a root)" : ""));
     }
   }
   std::vector<int> used(names_.size(), 0);
@@ -88,15 +87,16 @@ void Skeleton::Validate() const {
       if (owner[j] < 0) missing.push_back(names_[j]);
     }
     if (!missing.empty()) {
-      throw std::invalid_argument(who + ": partition '" + p.name +
-                                  "' must cover every non-root joint; missing: " +
-                                  JoinNames(missing));
+      throw std::invalid_argument(
+          who + ": partition '" + p.name +
+          "' must cover every non-root joint; missing: " + JoinNames(missing));
     }
   }
 }
 
 Skeleton Skeleton::FromParents(std::string name, std::vector<std::string> joint_names,
-                               std::vector<int> parents, std::vector<std::pair<int, int>> left_right,
+                               std::vector<int> parents,
+                               std::vector<std::pair<int, int>> left_right,
                                std::vector<Partition> partitions) {
   Skeleton s;
   s.name_ = std::move(name);
@@ -169,8 +169,8 @@ std::optional<int> Skeleton::Find(std::string_view joint_name) const {
 
 int Skeleton::Index(std::string_view joint_name) const {
   if (auto j = Find(joint_name)) return *j;
-  throw std::invalid_argument("skeleton '" + name_ + "' has no joint '" +
-                              std::string(joint_name) + "'; its joints are: " + JoinNames(names_));
+  throw std::invalid_argument("skeleton '" + name_ + "' has no joint '" + std::string(joint_name) +
+                              "'; its joints are: " + JoinNames(names_));
 }
 
 std::vector<int> Skeleton::Subtree(int j) const {

@@ -44,7 +44,8 @@ namespace {
 constexpr int kReaderVersion = 1;
 
 bool HasSuffix(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string Stem(const std::string& path) { return fs::path(path).stem().string(); }
@@ -59,7 +60,8 @@ struct SourceFiles {
 uint64_t KeyOf(const ProtocolOptions& p, const std::vector<std::string>& files,
                const std::string& data_dir) {
   std::ostringstream s;
-  s << "v" << kReaderVersion << "|" << ToString(p.format) << "|" << p.unit_scale << "|" << p.skeleton;
+  s << "v" << kReaderVersion << "|" << ToString(p.format) << "|" << p.unit_scale << "|"
+    << p.skeleton;
   for (const std::string& f : files) {
     std::error_code ec;
     const auto size = fs::file_size(f, ec);
@@ -126,7 +128,8 @@ std::vector<CachedClip> ReadRawClips(const ProtocolOptions& p, const SkeletonCon
         for (float& v : pos) v = static_cast<float>(v * p.unit_scale);
         m = Motion(m.skeleton_ptr(), m.fps(), std::move(pos));
       }
-      raw.push_back(CachedClip{t.subject + "/" + t.action, t.subject, t.subject, t.action, std::move(m)});
+      raw.push_back(
+          CachedClip{t.subject + "/" + t.action, t.subject, t.subject, t.action, std::move(m)});
       report("reading takes", double(i + 1) / takes.size(), t.subject + "/" + t.action);
     }
     return raw;
@@ -193,9 +196,11 @@ Dataset LoadDataset(const ProtocolOptions& protocol, const SkeletonConfig& skele
   std::map<std::string, std::string> split_of;
   if (!protocol.split_file.empty() || !options.split_file.empty()) {
     std::string path = options.split_file.empty() ? protocol.split_file : options.split_file;
-    if (options.split_file.empty() && fs::path(path).is_relative()) path = (fs::path(data_dir) / path).string();
+    if (options.split_file.empty() && fs::path(path).is_relative())
+      path = (fs::path(data_dir) / path).string();
     if (!fs::is_regular_file(path)) {
-      throw std::invalid_argument("split file '" + path + "' not found (protocol '" + protocol.name +
+      throw std::invalid_argument("split file '" + path + "' not found (protocol '" +
+                                  protocol.name +
                                   "' expects it in the data folder; pass --split FILE otherwise)");
     }
     split_of = ReadSplitFile(path);
@@ -203,16 +208,16 @@ Dataset LoadDataset(const ProtocolOptions& protocol, const SkeletonConfig& skele
   const std::set<std::string> train(protocol.train_subjects.begin(), protocol.train_subjects.end());
   const std::set<std::string> test(protocol.test_subjects.begin(), protocol.test_subjects.end());
   const std::set<std::pair<std::string, std::string>> dropped(protocol.drop_takes.begin(),
-                                                                protocol.drop_takes.end());
+                                                              protocol.drop_takes.end());
   std::optional<std::regex> labels;
   if (!protocol.label_pattern.empty()) labels.emplace(protocol.label_pattern);
 
-  const JointSelection target = skeleton.selection
-                                    ? *skeleton.selection
-                                    : JointSelection{*skeleton.skeleton, {}};
+  const JointSelection target =
+      skeleton.selection ? *skeleton.selection : JointSelection{*skeleton.skeleton, {}};
   std::set<std::string> seen;
   for (CachedClip& rc : raw) {
-    if (ds.groups.empty() || ds.groups.back().first != rc.group) ds.groups.emplace_back(rc.group, 0);
+    if (ds.groups.empty() || ds.groups.back().first != rc.group)
+      ds.groups.emplace_back(rc.group, 0);
     ds.groups.back().second++;
     seen.insert(rc.name);
     Clip clip;

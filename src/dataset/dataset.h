@@ -18,31 +18,32 @@ enum class Split { kTrain, kTest };
 const char* ToString(Split split);
 
 struct Clip {
-  std::string name;     // file name without extension ("dataset-2_walk_elderly_001"), or subject/action
+  std::string
+      name;  // file name without extension ("dataset-2_walk_elderly_001"), or subject/action
   std::string group;    // source it came from (archive or folder name, or the subject)
   std::string subject;  // H36M subject, Bandai style; may be empty
   std::string action;   // H36M action, Bandai content; may be empty
   Split split = Split::kTrain;
-  Motion motion;        // protocol skeleton, protocol fps, metres, world coordinates
+  Motion motion;  // protocol skeleton, protocol fps, metres, world coordinates
 };
 
 struct SkippedClip {
   std::string name;
   std::string group;
-  std::string reason;   // "shorter than 75 frames", "dropped take", "not in split file", ...
-  int frames = 0;       // after resampling
-  std::string split;    // "train"/"test" when known, else ""
+  std::string reason;  // "shorter than 75 frames", "dropped take", "not in split file", ...
+  int frames = 0;      // after resampling
+  std::string split;   // "train"/"test" when known, else ""
 };
 
 struct Dataset {
   ProtocolOptions protocol;
   SkeletonConfig skeleton;
-  std::vector<Clip> clips;                    // usable clips
+  std::vector<Clip> clips;  // usable clips
   std::vector<SkippedClip> skipped;
   std::vector<std::pair<std::string, int>> groups;  // source -> clips read from it, in order
-  std::vector<std::string> split_missing;     // named by the split file but not found
+  std::vector<std::string> split_missing;           // named by the split file but not found
   bool from_cache = false;
-  double seconds_reading = 0;                 // wall time to get the raw clips (parse or cache)
+  double seconds_reading = 0;  // wall time to get the raw clips (parse or cache)
 
   std::vector<int> ClipIndices(Split split) const;
   // Frame counts of the given clips (for windows).
@@ -56,8 +57,8 @@ struct LoadProgress {
 };
 
 struct DatasetLoadOptions {
-  std::string cache_dir;       // "" = no cache
-  std::string split_file;      // overrides the protocol's split.file; "" = protocol's
+  std::string cache_dir;   // "" = no cache
+  std::string split_file;  // overrides the protocol's split.file; "" = protocol's
   std::function<void(const LoadProgress&)> progress;  // may be empty
 };
 

@@ -21,7 +21,8 @@ std::vector<Window> SlidingWindows(const std::vector<int>& clip_frames, int leng
   std::vector<Window> out;
   for (size_t c = 0; c < clip_frames.size(); ++c) {
     const int64_t n = CountSlidingWindows(clip_frames[c], length, stride, include_last);
-    for (int64_t k = 0; k < n; ++k) out.push_back(Window{static_cast<int>(c), static_cast<int>(k * stride)});
+    for (int64_t k = 0; k < n; ++k)
+      out.push_back(Window{static_cast<int>(c), static_cast<int>(k * stride)});
   }
   return out;
 }

@@ -39,7 +39,8 @@ std::vector<float> GaussianSmooth(const std::vector<float>& p, int joints, doubl
   const int F = joints * 3, T = static_cast<int>(p.size() / F);
   const int radius = std::max(1, static_cast<int>(std::ceil(3 * sigma)));
   std::vector<double> kernel(2 * radius + 1);
-  for (int k = -radius; k <= radius; ++k) kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
+  for (int k = -radius; k <= radius; ++k)
+    kernel[k + radius] = std::exp(-0.5 * k * k / (sigma * sigma));
   std::vector<float> out(p.size());
   for (int t = 0; t < T; ++t) {
     for (int v = 0; v < F; ++v) {

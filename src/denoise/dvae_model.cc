@@ -51,14 +51,16 @@ void CheckSequences(const std::vector<std::vector<float>>& sequences, int joints
   for (size_t s = 0; s < sequences.size(); ++s) {
     const std::vector<float>& q = sequences[s];
     if (q.empty() || q.size() % F != 0) {
-      throw std::invalid_argument("denoise: sequence " + std::to_string(s) + " has " + std::to_string(q.size()) +
-                                  " values, expected frames x " + std::to_string(joints) + " joints x 3");
+      throw std::invalid_argument("denoise: sequence " + std::to_string(s) + " has " +
+                                  std::to_string(q.size()) + " values, expected frames x " +
+                                  std::to_string(joints) + " joints x 3");
     }
     for (size_t k = 0; k < q.size(); ++k) {
       if (!std::isfinite(q[k])) {
-        throw std::invalid_argument("denoise: sequence " + std::to_string(s) + " frame " + std::to_string(k / F) +
-                                    " joint " + std::to_string((k % F) / 3) + " is not finite (" +
-                                    std::to_string(q[k]) + "); fill missing values first (motionfork impute)");
+        throw std::invalid_argument(
+            "denoise: sequence " + std::to_string(s) + " frame " + std::to_string(k / F) +
+            " joint " + std::to_string((k % F) / 3) + " is not finite (" + std::to_string(q[k]) +
+            "); fill missing values first (motionfork impute)");
       }
     }
   }
@@ -66,9 +68,9 @@ void CheckSequences(const std::vector<std::vector<float>>& sequences, int joints
 
 }  // namespace
 
-std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector<float>>& sequences,
-                                                   const DenoiseOptions& options, DenoiseStats* stats,
-                                                   const std::function<void(double)>& progress) const {
+std::vector<std::vector<float>> DvaeModel::Denoise(
+    const std::vector<std::vector<float>>& sequences, const DenoiseOptions& options,
+    DenoiseStats* stats, const std::function<void(double)>& progress) const {
   Impl& i = *impl_;
   std::lock_guard<std::mutex> lock(i.mutex);
   const auto start = std::chrono::steady_clock::now();
@@ -78,12 +80,14 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
   for (const auto& q : sequences) frames.push_back(static_cast<int>(q.size() / F));
   std::vector<WindowCut> cuts = CutWindows(frames, window(), options.stride);
   std::vector<std::vector<float>> values(cuts.size());
-  for (size_t w = 0; w < cuts.size(); ++w) values[w] = WindowValues(sequences[cuts[w].sequence].data(), J, &cuts[w]);
+  for (size_t w = 0; w < cuts.size(); ++w)
+    values[w] = WindowValues(sequences[cuts[w].sequence].data(), J, &cuts[w]);
 
   // Batches: windows of one length (and, in optimisation mode, of one sequence).
   const bool optimise = options.mode == DenoiseMode::kOptimisation && options.iterations > 0;
   std::map<std::pair<int, int>, std::vector<size_t>> groups;  // (sequence or -1, length) -> windows
-  for (size_t w = 0; w < cuts.size(); ++w) groups[{optimise ? cuts[w].sequence : -1, cuts[w].length}].push_back(w);
+  for (size_t w = 0; w < cuts.size(); ++w)
+    groups[{optimise ? cuts[w].sequence : -1, cuts[w].length}].push_back(w);
 
   at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(options.seed);
   std::vector<double> noise_sum(J, 0.0);
@@ -95,9 +99,11 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
     for (size_t c0 = 0; c0 < members.size(); c0 += kChunk) {
       const size_t c1 = std::min(members.size(), c0 + static_cast<size_t>(kChunk));
       std::vector<float> batch;
-      for (size_t k = c0; k < c1; ++k) batch.insert(batch.end(), values[members[k]].begin(), values[members[k]].end());
+      for (size_t k = c0; k < c1; ++k)
+        batch.insert(batch.end(), values[members[k]].begin(), values[members[k]].end());
       const int64_t B = static_cast<int64_t>(c1 - c0);
-      const torch::Tensor y = i.norm->Normalise(batch.data(), B, L);  // a new tensor, not a view of batch
+      const torch::Tensor y =
+          i.norm->Normalise(batch.data(), B, L);  // a new tensor, not a view of batch
       if (optimise) {
         // Adam on this sequence's own unsupervised loss, from the bundle's weights; restored after.
         saved.clear();
@@ -124,9 +130,11 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
       const std::vector<float> metres = i.norm->Denormalise(out);
       for (size_t k = c0; k < c1; ++k) {
         const size_t off = (k - c0) * static_cast<size_t>(L) * F;
-        values[members[k]].assign(metres.begin() + off, metres.begin() + off + static_cast<size_t>(L) * F);
+        values[members[k]].assign(metres.begin() + off,
+                                  metres.begin() + off + static_cast<size_t>(L) * F);
       }
-      const torch::Tensor joint_var = (var * i.norm->std().pow(2)).reshape({B * L, J, 3}).sum(2).sum(0);
+      const torch::Tensor joint_var =
+          (var * i.norm->std().pow(2)).reshape({B * L, J, 3}).sum(2).sum(0);
       for (int j = 0; j < J; ++j) noise_sum[j] += joint_var[j].item<double>() / 3.0;
       noise_count += static_cast<double>(B * L);
       done += static_cast<size_t>(B);
@@ -136,25 +144,30 @@ std::vector<std::vector<float>> DvaeModel::Denoise(const std::vector<std::vector
   std::vector<std::vector<float>> result = BlendWindows(cuts, values, frames, J);
   if (stats) {
     stats->windows = static_cast<int>(cuts.size());
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats->seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     stats->noise_std.assign(J, 0.0);
-    for (int j = 0; j < J; ++j) stats->noise_std[j] = std::sqrt(noise_sum[j] / std::max(1.0, noise_count));
+    for (int j = 0; j < J; ++j)
+      stats->noise_std[j] = std::sqrt(noise_sum[j] / std::max(1.0, noise_count));
   }
   return result;
 }
 
-Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options, DenoiseStats* stats,
-                     const std::function<void(double)>& progress) {
+Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options,
+                     DenoiseStats* stats, const std::function<void(double)>& progress) {
   const Skeleton& want = model.skeleton();
   if (motion.skeleton().joint_names() != want.joint_names()) {
-    throw std::invalid_argument("the motion's joints do not match the Motion-DVAE's skeleton '" + want.name() +
-                                "' (" + std::to_string(want.num_joints()) + " joints; pass --skeleton to map them)");
+    throw std::invalid_argument("the motion's joints do not match the Motion-DVAE's skeleton '" +
+                                want.name() + "' (" + std::to_string(want.num_joints()) +
+                                " joints; pass --skeleton to map them)");
   }
   if (std::abs(motion.fps() - model.manifest().fps) > 1e-6) {
-    throw std::invalid_argument("the motion is at " + std::to_string(motion.fps()) + " Hz, the Motion-DVAE at " +
-                                std::to_string(model.manifest().fps) + " Hz");
+    throw std::invalid_argument("the motion is at " + std::to_string(motion.fps()) +
+                                " Hz, the Motion-DVAE at " + std::to_string(model.manifest().fps) +
+                                " Hz");
   }
-  std::vector<std::vector<float>> out = model.Denoise({motion.positions()}, options, stats, progress);
+  std::vector<std::vector<float>> out =
+      model.Denoise({motion.positions()}, options, stats, progress);
   return Motion(motion.skeleton_ptr(), motion.fps(), std::move(out[0]));
 }
 

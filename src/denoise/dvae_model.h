@@ -21,8 +21,9 @@ namespace motionfork {
 
 struct DenoiseStats {
   int windows = 0;
-  double seconds = 0;              // wall time of the denoising (not loading)
-  std::vector<double> noise_std;   // per joint: the noise model's typical std (sqrt(beta / alpha)), metres
+  double seconds = 0;  // wall time of the denoising (not loading)
+  std::vector<double>
+      noise_std;  // per joint: the noise model's typical std (sqrt(beta / alpha)), metres
 };
 
 class DvaeModel {
@@ -41,7 +42,8 @@ class DvaeModel {
   // that holds a non-finite value (naming the sequence and frame).
   // progress (optional) gets the share of windows done, 0..1.
   std::vector<std::vector<float>> Denoise(const std::vector<std::vector<float>>& sequences,
-                                          const DenoiseOptions& options, DenoiseStats* stats = nullptr,
+                                          const DenoiseOptions& options,
+                                          DenoiseStats* stats = nullptr,
                                           const std::function<void(double)>& progress = {}) const;
 
  private:
@@ -52,6 +54,7 @@ class DvaeModel {
 // A motion on the model's skeleton (same joint names, in order) and frame rate, denoised. Throws
 // std::invalid_argument naming what does not match.
 Motion DenoiseMotion(const DvaeModel& model, const Motion& motion, const DenoiseOptions& options,
-                     DenoiseStats* stats = nullptr, const std::function<void(double)>& progress = {});
+                     DenoiseStats* stats = nullptr,
+                     const std::function<void(double)>& progress = {});
 
 }  // namespace motionfork

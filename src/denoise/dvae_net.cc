@@ -37,10 +37,12 @@ DvaeNetImpl::DvaeNetImpl(const DvaeOptions& o, int64_t values) : options_(o), va
   d_ini = register_module("d_ini", DvaeMlp(F, M, H, G));
   d_x = register_module("d_x", DvaeMlp(H, M, F, G));
   d_z = register_module("d_z", DvaeMlp(H, M, 2 * Z, G));
-  dec_lstm = register_module("dec_lstm", torch::nn::LSTM(torch::nn::LSTMOptions(Z, H).batch_first(true)));
+  dec_lstm =
+      register_module("dec_lstm", torch::nn::LSTM(torch::nn::LSTMOptions(Z, H).batch_first(true)));
   e_ini = register_module("e_ini", DvaeMlp(F, M, H, G));
   e_glob = register_module("e_glob", DvaeMlp(2 * H, M, 2 * Z, G));
-  e_data = register_module("e_data", torch::nn::LSTM(torch::nn::LSTMOptions(F, H).batch_first(true)));
+  e_data =
+      register_module("e_data", torch::nn::LSTM(torch::nn::LSTMOptions(F, H).batch_first(true)));
   e_lat = register_module("e_lat", torch::nn::LSTMCell(torch::nn::LSTMCellOptions(Z, H)));
   r_h = register_module("r_h", torch::nn::LSTM(torch::nn::LSTMOptions(F, H).batch_first(true)));
   e_x0 = register_module("e_x0", DvaeMlp(H, M, 2 * F, G));
@@ -72,8 +74,8 @@ DvaePass DvaeNetImpl::Run(const torch::Tensor& seq, const torch::Tensor& x0, boo
   p.post_mean = torch::stack(means, 1);
   p.post_logvar = torch::stack(logvars, 1);
   const torch::Tensor h0 = d_ini(x0);
-  const torch::Tensor out =
-      std::get<0>(dec_lstm->forward(p.z, std::make_tuple(h0.unsqueeze(0), torch::zeros_like(h0).unsqueeze(0))));
+  const torch::Tensor out = std::get<0>(
+      dec_lstm->forward(p.z, std::make_tuple(h0.unsqueeze(0), torch::zeros_like(h0).unsqueeze(0))));
   p.hidden = torch::cat({h0.unsqueeze(1), out}, 1);
   const auto prior = d_z(p.hidden.slice(1, 0, T)).chunk(2, 2);
   p.prior_mean = prior[0];
@@ -90,8 +92,8 @@ std::pair<torch::Tensor, torch::Tensor> DvaeNetImpl::InitialState(const torch::T
   return {q[0], q[1].clamp(kLogVarMin, kLogVarMax)};
 }
 
-DvaeNoise DvaeNetImpl::NoiseVariances(const torch::Tensor& y, const torch::Tensor& frames, const torch::Tensor& hidden,
-                                      const torch::Tensor& scale2) {
+DvaeNoise DvaeNetImpl::NoiseVariances(const torch::Tensor& y, const torch::Tensor& frames,
+                                      const torch::Tensor& hidden, const torch::Tensor& scale2) {
   const double a0 = 2.0;  // alpha at initialisation
   const auto ab = e_b(torch::cat({hidden, y, y - frames}, 2)).chunk(2, 2);
   DvaeNoise n;
@@ -100,14 +102,17 @@ DvaeNoise DvaeNetImpl::NoiseVariances(const torch::Tensor& y, const torch::Tenso
   return n;
 }
 
-torch::Tensor DvaeNetImpl::Generate(const torch::Tensor& x0, int64_t frames, bool sample_latents, at::Generator gen) {
+torch::Tensor DvaeNetImpl::Generate(const torch::Tensor& x0, int64_t frames, bool sample_latents,
+                                    at::Generator gen) {
   torch::Tensor h = d_ini(x0), c = torch::zeros_like(h);
   std::vector<torch::Tensor> out;
   for (int64_t t = 0; t < frames; ++t) {
     const auto prior = d_z(h).chunk(2, 1);
     torch::Tensor z = prior[0];
-    if (sample_latents) z = z + torch::exp(0.5 * prior[1].clamp(kLogVarMin, kLogVarMax)) * Noise(z, gen);
-    auto state = std::get<1>(dec_lstm->forward(z.unsqueeze(1), std::make_tuple(h.unsqueeze(0), c.unsqueeze(0))));
+    if (sample_latents)
+      z = z + torch::exp(0.5 * prior[1].clamp(kLogVarMin, kLogVarMax)) * Noise(z, gen);
+    auto state = std::get<1>(
+        dec_lstm->forward(z.unsqueeze(1), std::make_tuple(h.unsqueeze(0), c.unsqueeze(0))));
     h = std::get<0>(state).squeeze(0);
     c = std::get<1>(state).squeeze(0);
     out.push_back(d_x(h));
@@ -117,8 +122,9 @@ torch::Tensor DvaeNetImpl::Generate(const torch::Tensor& x0, int64_t frames, boo
 
 std::vector<torch::Tensor> DvaeNetImpl::EncoderParameters() {
   std::vector<torch::Tensor> p;
-  for (torch::nn::Module* m : std::vector<torch::nn::Module*>{e_ini.get(), e_glob.get(), e_data.get(), e_lat.get(),
-                                                               r_h.get(), e_x0.get(), e_b.get()}) {
+  for (torch::nn::Module* m :
+       std::vector<torch::nn::Module*>{e_ini.get(), e_glob.get(), e_data.get(), e_lat.get(),
+                                       r_h.get(), e_x0.get(), e_b.get()}) {
     for (const torch::Tensor& t : m->parameters()) p.push_back(t);
   }
   return p;
@@ -126,7 +132,8 @@ std::vector<torch::Tensor> DvaeNetImpl::EncoderParameters() {
 
 std::vector<torch::Tensor> DvaeNetImpl::DecoderParameters() {
   std::vector<torch::Tensor> p;
-  for (torch::nn::Module* m : std::vector<torch::nn::Module*>{d_ini.get(), d_x.get(), d_z.get(), dec_lstm.get()}) {
+  for (torch::nn::Module* m :
+       std::vector<torch::nn::Module*>{d_ini.get(), d_x.get(), d_z.get(), dec_lstm.get()}) {
     for (const torch::Tensor& t : m->parameters()) p.push_back(t);
   }
   p.push_back(x_logvar);
@@ -138,9 +145,10 @@ torch::Tensor GaussianKl(const torch::Tensor& m1, const torch::Tensor& l1, const
   return 0.5 * (l2 - l1 + (torch::exp(l1) + (m1 - m2).pow(2)) * torch::exp(-l2) - 1.0);
 }
 
-torch::Tensor InverseGammaKl(const torch::Tensor& a, const torch::Tensor& b, double a0, const torch::Tensor& b0) {
-  return (a - a0) * torch::digamma(a) - torch::lgamma(a) + std::lgamma(a0) + a0 * (torch::log(b) - torch::log(b0)) +
-         a * (b0 - b) / b;
+torch::Tensor InverseGammaKl(const torch::Tensor& a, const torch::Tensor& b, double a0,
+                             const torch::Tensor& b0) {
+  return (a - a0) * torch::digamma(a) - torch::lgamma(a) + std::lgamma(a0) +
+         a0 * (torch::log(b) - torch::log(b0)) + a * (b0 - b) / b;
 }
 
 }  // namespace motionfork

@@ -23,10 +23,12 @@ DvaeTensors::DvaeTensors(const DvaeManifest& m) : dof_(m.noise_prior.dof) {
   const int64_t F = DvaeValues(m);
   mean_ = torch::tensor(std::vector<float>(m.mean.begin(), m.mean.end()));
   std_ = torch::tensor(std::vector<float>(m.std.begin(), m.std.end()));
-  if (mean_.numel() != F || std_.numel() != F) throw std::invalid_argument("Motion-DVAE: normalisation has the wrong size");
+  if (mean_.numel() != F || std_.numel() != F)
+    throw std::invalid_argument("Motion-DVAE: normalisation has the wrong size");
   scale2_ = (m.noise_prior.scale / std_).pow(2);
   std::map<std::string, int64_t> index;
-  for (size_t j = 0; j < m.skeleton.joint_names.size(); ++j) index[m.skeleton.joint_names[j]] = static_cast<int64_t>(j);
+  for (size_t j = 0; j < m.skeleton.joint_names.size(); ++j)
+    index[m.skeleton.joint_names[j]] = static_cast<int64_t>(j);
   std::vector<int64_t> child, parent;
   for (size_t j = 0; j < m.skeleton.parent_names.size(); ++j) {
     if (m.skeleton.parent_names[j].empty()) continue;
@@ -39,7 +41,8 @@ DvaeTensors::DvaeTensors(const DvaeManifest& m) : dof_(m.noise_prior.dof) {
 
 torch::Tensor DvaeTensors::Normalise(const float* windows, int64_t count, int64_t length) const {
   const int64_t F = mean_.numel();
-  const torch::Tensor x = torch::from_blob(const_cast<float*>(windows), {count, length, F}, torch::kFloat32);
+  const torch::Tensor x =
+      torch::from_blob(const_cast<float*>(windows), {count, length, F}, torch::kFloat32);
   return (x - mean_) / std_;
 }
 
@@ -53,8 +56,8 @@ torch::Tensor DvaeTensors::BoneLengths(const torch::Tensor& x) const {
   return (p.index_select(2, child_) - p.index_select(2, parent_)).norm(2, -1);
 }
 
-PriorTerms PriorObjective(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& x, double kl_weight,
-                          double bone_weight, at::Generator gen) {
+PriorTerms PriorObjective(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& x,
+                          double kl_weight, double bone_weight, at::Generator gen) {
   PriorTerms t;
   const torch::Tensor x0 = x.select(1, 0);
   const DvaePass p = net->Run(x, x0, /*sample=*/true, gen);
@@ -77,7 +80,8 @@ struct NoisyPass {
   DvaeNoise noise;
 };
 
-NoisyPass RunNoisy(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y, bool sample, at::Generator gen) {
+NoisyPass RunNoisy(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y, bool sample,
+                   at::Generator gen) {
   NoisyPass r;
   const auto [m0, lv0] = net->InitialState(y);
   const torch::Tensor x0 = sample ? Sample(m0, lv0, gen) : m0;
@@ -89,14 +93,16 @@ NoisyPass RunNoisy(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y, b
 
 }  // namespace
 
-DenoiseTerms DenoiseObjective(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y, double kl_weight,
-                              double bone_weight, at::Generator gen) {
+DenoiseTerms DenoiseObjective(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y,
+                              double kl_weight, double bone_weight, at::Generator gen) {
   DenoiseTerms t;
   const NoisyPass r = RunNoisy(net, n, y, /*sample=*/true, gen);
   const torch::Tensor& a = r.noise.alpha;
   const torch::Tensor& b = r.noise.beta;
   // E_q(v)[-log N(y; frames, v)] with E[1/v] = a / b and E[log v] = log b - digamma(a).
-  t.data = (0.5 * (kLog2Pi + torch::log(b) - torch::digamma(a) + (a / b) * (y - r.frames).pow(2))).sum({1, 2}).mean();
+  t.data = (0.5 * (kLog2Pi + torch::log(b) - torch::digamma(a) + (a / b) * (y - r.frames).pow(2)))
+               .sum({1, 2})
+               .mean();
   const double a0 = n.dof() / 2;
   t.kl_v = InverseGammaKl(a, b, a0, a0 * n.scale2()).sum({1, 2}).mean();
   t.kl_z = r.pass.kl.mean();
@@ -106,8 +112,8 @@ DenoiseTerms DenoiseObjective(DvaeNet& net, const DvaeTensors& n, const torch::T
   return t;
 }
 
-torch::Tensor DenoiseOutput(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y, int samples, bool fuse,
-                            at::Generator gen, torch::Tensor* noise_var) {
+torch::Tensor DenoiseOutput(DvaeNet& net, const DvaeTensors& n, const torch::Tensor& y, int samples,
+                            bool fuse, at::Generator gen, torch::Tensor* noise_var) {
   const torch::Tensor sx2 = torch::exp(net->x_logvar);
   if (samples <= 0) {
     const NoisyPass r = RunNoisy(net, n, y, /*sample=*/false, gen);
@@ -120,7 +126,8 @@ torch::Tensor DenoiseOutput(DvaeNet& net, const DvaeTensors& n, const torch::Ten
   const NoisyPass r = RunNoisy(net, n, ys, /*sample=*/true, gen);
   const torch::Tensor v = r.noise.beta / at::_standard_gamma(r.noise.alpha, gen).clamp_min(1e-12);
   const torch::Tensor fused = fuse ? (v * r.frames + sx2 * ys) / (v + sx2) : r.frames;
-  if (noise_var) *noise_var = (r.noise.beta / r.noise.alpha).reshape({samples, B, y.size(1), y.size(2)}).mean(0);
+  if (noise_var)
+    *noise_var = (r.noise.beta / r.noise.alpha).reshape({samples, B, y.size(1), y.size(2)}).mean(0);
   return fused.reshape({samples, B, y.size(1), y.size(2)}).mean(0);
 }
 

@@ -1,4 +1,5 @@
-// Motion-DVAE settings (configs/models/dvae_*.yaml; bundles' dvae.yaml). Plain structs, no LibTorch.
+// Motion-DVAE settings (configs/models/dvae_*.yaml; bundles' dvae.yaml). Plain structs, no
+// LibTorch.
 //
 // The model follows the Motion-DVAE supplement (../shared/seeds/motion-dvae-supplement.txt) on
 // joint positions instead of SMPL parameters: a pose is every joint's position relative to the
@@ -15,11 +16,11 @@
 namespace motionfork {
 
 struct DvaeOptions {
-  int window = 30;        // frames per training window: the initial pose x0 and 29 more (1 s at 30 Hz)
-  int hidden = 1024;      // LSTM hidden state (paper: 1024)
-  int latent = 48;        // z_t per frame (paper: 48)
-  int mlp_hidden = 512;   // width of the MLPs' two hidden layers
-  int groups = 16;        // group-norm groups in every MLP (paper: 16)
+  int window = 30;    // frames per training window: the initial pose x0 and 29 more (1 s at 30 Hz)
+  int hidden = 1024;  // LSTM hidden state (paper: 1024)
+  int latent = 48;    // z_t per frame (paper: 48)
+  int mlp_hidden = 512;  // width of the MLPs' two hidden layers
+  int groups = 16;       // group-norm groups in every MLP (paper: 16)
 };
 
 // Training the motion prior on clean windows.
@@ -30,10 +31,11 @@ struct DvaeTrainOptions {
   double learning_rate = 1e-3;    // Adam (the paper's Adamax is not in LibTorch's C++ API)
   double lr_decay = 1.0;          // learning rate x this after every epoch
   double grad_clip = 10;          // gradient-norm clip
-  int kl_anneal_epochs = 50;      // KL weight rises linearly from kl_start to 1 (paper: first 50 epochs)
+  int kl_anneal_epochs =
+      50;  // KL weight rises linearly from kl_start to 1 (paper: first 50 epochs)
   double kl_start = 1e-3;
-  double bone_weight = 1.0;       // bone-length term (in place of the paper's SMPL mesh term), per cm^2
-  double held_out_share = 0.05;   // training clips held out for per-epoch figures
+  double bone_weight = 1.0;  // bone-length term (in place of the paper's SMPL mesh term), per cm^2
+  double held_out_share = 0.05;  // training clips held out for per-epoch figures
   int held_out_windows = 1000;
   uint64_t seed = 0;
   int threads = 1;
@@ -49,10 +51,11 @@ struct DvaeFinetuneOptions {
   double grad_clip = 10;
   int kl_anneal_epochs = 5;
   double kl_start = 0.1;
-  double bone_weight = 1.0;       // bone-length consistency of the output within a window, per cm^2
-  std::vector<std::string> noise = {"gaussian:0.02", "gaussian:0.05", "gaussian:0.10", "outliers:0.1,0.3",
-                                    "jitter:0.05"};  // corruptions of the training windows, one per window
-  int patience = 10;              // stop when the held-out loss has not improved for this many epochs
+  double bone_weight = 1.0;  // bone-length consistency of the output within a window, per cm^2
+  std::vector<std::string> noise = {
+      "gaussian:0.02", "gaussian:0.05", "gaussian:0.10", "outliers:0.1,0.3",
+      "jitter:0.05"};  // corruptions of the training windows, one per window
+  int patience = 10;   // stop when the held-out loss has not improved for this many epochs
   uint64_t seed = 1;
   int threads = 1;
 };
@@ -69,14 +72,14 @@ const char* ToString(DenoiseMode mode);
 
 struct DenoiseOptions {
   DenoiseMode mode = DenoiseMode::kRegression;
-  int iterations = 50;         // optimisation mode: Adam steps on the sequence (paper: 50 on AMASS)
-  double learning_rate = 3e-4; // optimisation mode
-  double bone_weight = 0.1;    // optimisation mode: bone-length constancy per cm^2 (as fine-tuning)
+  int iterations = 50;  // optimisation mode: Adam steps on the sequence (paper: 50 on AMASS)
+  double learning_rate = 3e-4;  // optimisation mode
+  double bone_weight = 0.1;  // optimisation mode: bone-length constancy per cm^2 (as fine-tuning)
   // true: the paper's eq. 11, each value (v * decoder + sigma_x^2 * y) / (v + sigma_x^2), which
   // keeps some of the input's frame-to-frame noise; false: the decoder's frames only (smoother).
   bool fuse = true;
-  int samples = 4;             // posterior draws averaged (x0, z, noise variances); 0 = posterior means
-  int stride = 15;             // windows overlap by window - stride frames
+  int samples = 4;  // posterior draws averaged (x0, z, noise variances); 0 = posterior means
+  int stride = 15;  // windows overlap by window - stride frames
   uint64_t seed = 0;
 };
 
@@ -100,11 +103,12 @@ struct DvaeManifest {
   double fps = 0;
   DvaeOptions model;
   SkeletonSpec skeleton;
-  std::vector<double> mean, std;  // per value [J * 3]: normalisation (metres, window-mean-root relative)
+  std::vector<double> mean,
+      std;  // per value [J * 3]: normalisation (metres, window-mean-root relative)
   DvaeNoisePrior noise_prior;
-  bool finetuned = false;         // the encoder was fine-tuned on noisy data (regression mode)
+  bool finetuned = false;  // the encoder was fine-tuned on noisy data (regression mode)
   std::vector<std::string> finetune_noise;  // the corruptions it was fine-tuned on
-  DenoiseOptions denoise;         // defaults of `motionfork denoise`
+  DenoiseOptions denoise;                   // defaults of `motionfork denoise`
   std::vector<std::pair<std::string, std::string>> info;
 };
 

@@ -30,12 +30,14 @@ DvaeData MakeDvaeData(const Dataset& dataset, double held_out_share, uint64_t se
     if (dataset.clips[c].motion.num_frames() >= window) clips.push_back(c);
   }
   if (clips.size() < 2) {
-    throw std::invalid_argument("Motion-DVAE training: expected at least 2 training clips of >= " +
-                                std::to_string(window) + " frames, found " + std::to_string(clips.size()));
+    throw std::invalid_argument(
+        "Motion-DVAE training: expected at least 2 training clips of >= " + std::to_string(window) +
+        " frames, found " + std::to_string(clips.size()));
   }
   std::vector<int> order = clips;
   std::shuffle(order.begin(), order.end(), std::mt19937_64(seed));
-  const size_t held = std::max<size_t>(1, static_cast<size_t>(std::lround(held_out_share * order.size())));
+  const size_t held =
+      std::max<size_t>(1, static_cast<size_t>(std::lround(held_out_share * order.size())));
   const std::set<int> held_out(order.begin(), order.begin() + held);
   for (int c : clips) {
     (held_out.count(c) ? data.held_out : data.train).push_back(dataset.clips[c].motion.positions());
@@ -65,7 +67,8 @@ WindowBatch HeldOutBatch(const DvaeData& data, int window, int limit) {
   const int F = 3 * data.joints;
   for (const auto& clip : data.held_out) {
     const int frames = static_cast<int>(clip.size() / F);
-    for (int s = 0; s + window <= frames && b.count < limit; s += window) AddWindow(clip, data.joints, s, window, &b);
+    for (int s = 0; s + window <= frames && b.count < limit; s += window)
+      AddWindow(clip, data.joints, s, window, &b);
   }
   return b;
 }
@@ -106,7 +109,8 @@ double AnnealWeight(int epochs, double start, double progress) {
 }
 
 void SetLearningRate(torch::optim::Adam& adam, double lr) {
-  for (auto& group : adam.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+  for (auto& group : adam.param_groups())
+    static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
 }
 
 // Appends one epoch to OUT/log.csv (header first when the file is new).
@@ -124,7 +128,8 @@ void AppendLog(const fs::path& file, const DvaeEpochLog& log) {
 }
 
 void SetInfo(DvaeManifest* m, const std::string& key, const std::string& value) {
-  m->info.erase(std::remove_if(m->info.begin(), m->info.end(), [&](const auto& kv) { return kv.first == key; }),
+  m->info.erase(std::remove_if(m->info.begin(), m->info.end(),
+                               [&](const auto& kv) { return kv.first == key; }),
                 m->info.end());
   m->info.emplace_back(key, value);
 }
@@ -135,8 +140,9 @@ double Seconds(std::chrono::steady_clock::time_point since) {
 
 }  // namespace
 
-DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& base, const DvaeData& data,
-                           const std::string& out_dir, const DvaeTrainCallbacks& cb, int stop_after_epochs) {
+DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& base,
+                           const DvaeData& data, const std::string& out_dir,
+                           const DvaeTrainCallbacks& cb, int stop_after_epochs) {
   const DvaeTrainOptions& t = config.training;
   PinThreads(t.threads);
   torch::manual_seed(t.seed);
@@ -152,7 +158,8 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
   DvaeTrainSummary summary;
   summary.first_epoch = LoadCheckpoint(ckpt.string(), "dvae.pt", *net, adam);
   if (summary.first_epoch > 0 && cb.message) {
-    cb.message("resuming from " + ckpt.string() + " after epoch " + std::to_string(summary.first_epoch));
+    cb.message("resuming from " + ckpt.string() + " after epoch " +
+               std::to_string(summary.first_epoch));
   }
   const std::vector<int> frames = ClipFrames(data.train, F);
   const WindowBatch held = HeldOutBatch(data, W, t.held_out_windows);
@@ -173,16 +180,19 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
         AddWindow(data.train[w.clip], J, w.start, W, &batch);
       }
       const torch::Tensor x = norm.Normalise(batch.values.data(), B, W);
-      beta = AnnealWeight(t.kl_anneal_epochs, t.kl_start, epoch + static_cast<double>(it) / iterations);
+      beta = AnnealWeight(t.kl_anneal_epochs, t.kl_start,
+                          epoch + static_cast<double>(it) / iterations);
       const PriorTerms terms = PriorObjective(net, norm, x, beta, t.bone_weight, gen);
       adam.zero_grad();
       terms.loss.backward();
       torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
       adam.step();
-      const double v[5] = {terms.loss.item<double>(), terms.nll.item<double>(), terms.kl.item<double>(),
-                           terms.bone.item<double>(), terms.x0.item<double>()};
+      const double v[5] = {terms.loss.item<double>(), terms.nll.item<double>(),
+                           terms.kl.item<double>(), terms.bone.item<double>(),
+                           terms.x0.item<double>()};
       if (!std::isfinite(v[0])) {
-        throw std::runtime_error("Motion-DVAE training: the loss became non-finite at epoch " + std::to_string(epoch + 1));
+        throw std::runtime_error("Motion-DVAE training: the loss became non-finite at epoch " +
+                                 std::to_string(epoch + 1));
       }
       for (int k = 0; k < 5; ++k) sums[k] += v[k];
       if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
@@ -198,16 +208,18 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
       const PriorTerms ht = PriorObjective(net, norm, x, 1.0, 0.0, eval_gen);
       nelbo = (ht.nll + ht.kl).item<double>();
       const DvaePass p = net->Run(x, x.select(1, 0), false, c10::nullopt);
-      const torch::Tensor d = ((p.mean - x.slice(1, 1)) * norm.std()).reshape({held.count, W - 1, J, 3});
+      const torch::Tensor d =
+          ((p.mean - x.slice(1, 1)) * norm.std()).reshape({held.count, W - 1, J, 3});
       mpjpe = d.norm(2, -1).mean().item<double>() * 100;
     }
     DvaeEpochLog log;
     log.epoch = epoch;
     log.kl_weight = beta;
     log.seconds = Seconds(epoch_start);
-    log.terms = {{"loss", sums[0] / iterations}, {"nll", sums[1] / iterations}, {"kl", sums[2] / iterations},
-                 {"bone_cm2", sums[3] / iterations}, {"x0_nll", sums[4] / iterations},
-                 {"held_out_neg_elbo", nelbo}, {"held_out_recon_cm", mpjpe}};
+    log.terms = {{"loss", sums[0] / iterations},   {"nll", sums[1] / iterations},
+                 {"kl", sums[2] / iterations},     {"bone_cm2", sums[3] / iterations},
+                 {"x0_nll", sums[4] / iterations}, {"held_out_neg_elbo", nelbo},
+                 {"held_out_recon_cm", mpjpe}};
     AppendLog(out / "log.csv", log);
     SetInfo(&m, "epochs_trained", std::to_string(epoch + 1));
     SaveDvaeBundle(out_dir, m, net);
@@ -219,18 +231,22 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
   return summary;
 }
 
-DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& prior_dir, const DvaeData& data,
-                              const std::string& out_dir, const DvaeTrainCallbacks& cb, int stop_after_epochs) {
+DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& prior_dir,
+                              const DvaeData& data, const std::string& out_dir,
+                              const DvaeTrainCallbacks& cb, int stop_after_epochs) {
   const DvaeFinetuneOptions& t = config.finetune;
   PinThreads(t.threads);
   torch::manual_seed(t.seed);
   DvaeManifest m;
   DvaeNet net = LoadDvaeBundle(prior_dir, &m);
   if (m.finetuned) {
-    throw std::invalid_argument(prior_dir + ": this bundle is fine-tuned already; fine-tune the motion prior (dvae train's output)");
+    throw std::invalid_argument(
+        prior_dir +
+        ": this bundle is fine-tuned already; fine-tune the motion prior (dvae train's output)");
   }
   const int W = m.model.window, J = data.joints, F = 3 * J;
-  if (DvaeValues(m) != F) throw std::invalid_argument(prior_dir + ": the bundle's skeleton does not match the data's");
+  if (DvaeValues(m) != F)
+    throw std::invalid_argument(prior_dir + ": the bundle's skeleton does not match the data's");
   m.finetuned = true;
   m.finetune_noise = t.noise;
   m.noise_prior = config.noise_prior;
@@ -252,7 +268,9 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   if (summary.first_epoch > 0) {
     std::ifstream in(state);
     in >> best >> bad_epochs;
-    if (cb.message) cb.message("resuming from " + ckpt.string() + " after epoch " + std::to_string(summary.first_epoch));
+    if (cb.message)
+      cb.message("resuming from " + ckpt.string() + " after epoch " +
+                 std::to_string(summary.first_epoch));
   }
   // Held-out noisy windows, the same every epoch: each window gets every noise kind in turn.
   const WindowBatch clean = HeldOutBatch(data, W, 1000);
@@ -290,16 +308,19 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
         AddWindow(noisy_clip, J, 0, W, &batch);
       }
       const torch::Tensor y = norm.Normalise(batch.values.data(), B, W);
-      beta = AnnealWeight(t.kl_anneal_epochs, t.kl_start, epoch + static_cast<double>(it) / iterations);
+      beta = AnnealWeight(t.kl_anneal_epochs, t.kl_start,
+                          epoch + static_cast<double>(it) / iterations);
       const DenoiseTerms terms = DenoiseObjective(net, norm, y, beta, t.bone_weight, gen);
       adam.zero_grad();
       terms.loss.backward();
       torch::nn::utils::clip_grad_norm_(trained, t.grad_clip);
       adam.step();
-      const double v[5] = {terms.loss.item<double>(), terms.data.item<double>(), terms.kl_z.item<double>(),
-                           terms.kl_v.item<double>(), terms.bone.item<double>()};
+      const double v[5] = {terms.loss.item<double>(), terms.data.item<double>(),
+                           terms.kl_z.item<double>(), terms.kl_v.item<double>(),
+                           terms.bone.item<double>()};
       if (!std::isfinite(v[0])) {
-        throw std::runtime_error("Motion-DVAE fine-tuning: the loss became non-finite at epoch " + std::to_string(epoch + 1));
+        throw std::runtime_error("Motion-DVAE fine-tuning: the loss became non-finite at epoch " +
+                                 std::to_string(epoch + 1));
       }
       for (int k = 0; k < 5; ++k) sums[k] += v[k];
       if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
@@ -314,7 +335,12 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
       held_loss = DenoiseObjective(net, norm, y, 1.0, t.bone_weight, eval_gen).loss.item<double>();
       const torch::Tensor out = DenoiseOutput(net, norm, y, 0, true, eval_gen);
       auto cm = [&](const torch::Tensor& a) {
-        return ((a - x) * norm.std()).reshape({noisy.count, W, J, 3}).norm(2, -1).mean().item<double>() * 100;
+        return ((a - x) * norm.std())
+                   .reshape({noisy.count, W, J, 3})
+                   .norm(2, -1)
+                   .mean()
+                   .item<double>() *
+               100;
       };
       err_noisy = cm(y);
       err_denoised = cm(out);
@@ -323,9 +349,10 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
     log.epoch = epoch;
     log.kl_weight = beta;
     log.seconds = Seconds(epoch_start);
-    log.terms = {{"loss", sums[0] / iterations}, {"data", sums[1] / iterations}, {"kl_z", sums[2] / iterations},
-                 {"kl_v", sums[3] / iterations}, {"bone_cm2", sums[4] / iterations}, {"held_out_loss", held_loss},
-                 {"held_out_noisy_cm", err_noisy}, {"held_out_denoised_cm", err_denoised}};
+    log.terms = {{"loss", sums[0] / iterations},     {"data", sums[1] / iterations},
+                 {"kl_z", sums[2] / iterations},     {"kl_v", sums[3] / iterations},
+                 {"bone_cm2", sums[4] / iterations}, {"held_out_loss", held_loss},
+                 {"held_out_noisy_cm", err_noisy},   {"held_out_denoised_cm", err_denoised}};
     AppendLog(out / "log.csv", log);
     if (held_loss < best) {
       best = held_loss;

@@ -46,13 +46,14 @@ struct DvaeTrainSummary {
 
 // base: protocol, fps, skeleton, noise prior, denoise defaults, info. Writes OUT/dvae.yaml +
 // OUT/dvae.pt, OUT/log.csv, OUT/checkpoint/.
-DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& base, const DvaeData& data,
-                           const std::string& out_dir, const DvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
+DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& base,
+                           const DvaeData& data, const std::string& out_dir,
+                           const DvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
 
 // prior_dir: a bundle from TrainDvae. OUT gets the fine-tuned bundle (the epoch with the lowest
 // held-out loss), log.csv and checkpoint/.
-DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& prior_dir, const DvaeData& data,
-                              const std::string& out_dir, const DvaeTrainCallbacks& callbacks,
-                              int stop_after_epochs = 0);
+DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& prior_dir,
+                              const DvaeData& data, const std::string& out_dir,
+                              const DvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
 
 }  // namespace motionfork

@@ -10,13 +10,16 @@ std::vector<WindowCut> CutWindows(const std::vector<int>& frames, int window, in
   std::vector<WindowCut> cuts;
   for (size_t s = 0; s < frames.size(); ++s) {
     const int n = frames[s];
-    if (n < 2) throw std::invalid_argument("denoise: a sequence needs at least 2 frames, got " + std::to_string(n));
+    if (n < 2)
+      throw std::invalid_argument("denoise: a sequence needs at least 2 frames, got " +
+                                  std::to_string(n));
     if (n <= window) {
       cuts.push_back({static_cast<int>(s), 0, n, {}});
       continue;
     }
     int start = 0;
-    for (; start + window < n; start += stride) cuts.push_back({static_cast<int>(s), start, window, {}});
+    for (; start + window < n; start += stride)
+      cuts.push_back({static_cast<int>(s), start, window, {}});
     cuts.push_back({static_cast<int>(s), n - window, window, {}});
   }
   return cuts;
@@ -59,7 +62,8 @@ std::vector<std::vector<float>> BlendWindows(const std::vector<WindowCut>& cuts,
   for (size_t s = 0; s < frames.size(); ++s) {
     out[s].resize(sum[s].size());
     for (int t = 0; t < frames[s]; ++t) {
-      for (size_t k = 0; k < stride; ++k) out[s][t * stride + k] = static_cast<float>(sum[s][t * stride + k] / weight[s][t]);
+      for (size_t k = 0; k < stride; ++k)
+        out[s][t * stride + k] = static_cast<float>(sum[s][t * stride + k] / weight[s][t]);
     }
   }
   return out;

@@ -13,7 +13,8 @@ namespace motionfork::kernels {
 // mean and var (biased) are the batch statistics, inv = 1 / sqrt(var + eps), and
 // y = tanh((x - mean) * inv * gamma + beta).
 void BatchNormTanhForward(const float* x, int64_t rows, int64_t width, const float* gamma,
-                          const float* beta, float eps, float* mean, float* var, float* inv, float* y);
+                          const float* beta, float eps, float* mean, float* var, float* inv,
+                          float* y);
 
 // The gradient of the above given gy = dL/dy: gx [rows, width] (may not alias gy), this node's
 // ggamma, gbeta [width] and gsum [width], the column sums of gx (the gradient of a bias added to x

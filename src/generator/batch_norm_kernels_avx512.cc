@@ -19,13 +19,13 @@ constexpr int kBlockVectors = 4;
 constexpr int64_t kBlockColumns = 16 * kBlockVectors;
 constexpr int64_t kAhead = 8;  // rows prefetched ahead in the backward pass's first sweep
 
-
 inline __m512 Load(const float* p, __mmask16 m) { return _mm512_maskz_loadu_ps(m, p); }
 inline void Store(float* p, __mmask16 m, __m512 v) { _mm512_mask_storeu_ps(p, m, v); }
 
 // Columns [h0, h1) of one node (h1 - h0 <= kBlockColumns).
-void ForwardBlock(const float* x, int64_t rows, int64_t width, int64_t h0, int64_t h1, const float* gamma,
-                  const float* beta, float eps, float* mean, float* var, float* inv, float* y) {
+void ForwardBlock(const float* x, int64_t rows, int64_t width, int64_t h0, int64_t h1,
+                  const float* gamma, const float* beta, float eps, float* mean, float* var,
+                  float* inv, float* y) {
   __mmask16 m[kBlockVectors];
   __m512 sum[kBlockVectors], mu[kBlockVectors], k[kBlockVectors], b[kBlockVectors];
   for (int v = 0; v < kBlockVectors; ++v) {
@@ -70,9 +70,9 @@ void ForwardBlock(const float* x, int64_t rows, int64_t width, int64_t h0, int64
   }
 }
 
-void BackwardBlock(const float* gy, const float* x, const float* y, const float* mean, const float* inv,
-                   const float* gamma, int64_t rows, int64_t width, int64_t h0, int64_t h1, float* gx,
-                   float* ggamma, float* gbeta, float* gsum) {
+void BackwardBlock(const float* gy, const float* x, const float* y, const float* mean,
+                   const float* inv, const float* gamma, int64_t rows, int64_t width, int64_t h0,
+                   int64_t h1, float* gx, float* ggamma, float* gbeta, float* gsum) {
   __mmask16 m[kBlockVectors];
   __m512 mu[kBlockVectors], iv[kBlockVectors], gb[kBlockVectors], gg[kBlockVectors];
   for (int v = 0; v < kBlockVectors; ++v) {
@@ -83,7 +83,8 @@ void BackwardBlock(const float* gy, const float* x, const float* y, const float*
     gb[v] = gg[v] = _mm512_setzero_ps();
   }
   const __m512 one = _mm512_set1_ps(1.0f);
-  // gu = gy * (1 - y^2), the gradient before tanh, kept in gx; gbeta = sum gu, ggamma = sum gu xhat.
+  // gu = gy * (1 - y^2), the gradient before tanh, kept in gx; gbeta = sum gu, ggamma = sum gu
+  // xhat.
   for (int64_t r = 0; r < rows; ++r) {
     const int64_t o = r * width + h0;
     if (r + kAhead < rows) {
@@ -131,7 +132,8 @@ void BackwardBlock(const float* gy, const float* x, const float* y, const float*
 }  // namespace
 
 void BatchNormTanhForward(const float* x, int64_t rows, int64_t width, const float* gamma,
-                          const float* beta, float eps, float* mean, float* var, float* inv, float* y) {
+                          const float* beta, float eps, float* mean, float* var, float* inv,
+                          float* y) {
   for (int64_t h0 = 0; h0 < width; h0 += kBlockColumns) {
     const int64_t h1 = h0 + kBlockColumns < width ? h0 + kBlockColumns : width;
     ForwardBlock(x, rows, width, h0, h1, gamma, beta, eps, mean, var, inv, y);

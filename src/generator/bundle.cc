@@ -22,11 +22,13 @@ void SaveGeneratorBundle(const std::string& dir, const ModelConfig& config, Gene
 
 GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config) {
   const fs::path yaml = fs::path(dir) / "model.yaml", weights = fs::path(dir) / "generator.pt";
-  if (!fs::is_directory(dir)) throw FormatError(FormatMessage(dir, "", "model bundle folder not found"));
+  if (!fs::is_directory(dir))
+    throw FormatError(FormatMessage(dir, "", "model bundle folder not found"));
   for (const fs::path& f : {yaml, weights}) {
     if (!fs::is_regular_file(f)) {
-      throw FormatError(FormatMessage(f.string(), "", "missing from the model bundle (expected " +
-                                                          std::string("model.yaml and generator.pt)")));
+      throw FormatError(FormatMessage(f.string(), "",
+                                      "missing from the model bundle (expected " +
+                                          std::string("model.yaml and generator.pt)")));
     }
   }
   *config = LoadModelConfig(yaml.string());
@@ -38,11 +40,11 @@ GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config) {
   }
   const Skeleton& skeleton = *built;
   if (skeleton.num_joints() - 1 != config->generator.num_nodes) {
-    throw FormatError(FormatMessage(yaml.string(), "", "generator.num_nodes = " +
-                                                           std::to_string(config->generator.num_nodes) +
-                                                           " does not match the skeleton's " +
-                                                           std::to_string(skeleton.num_joints() - 1) +
-                                                           " non-root joints"));
+    throw FormatError(
+        FormatMessage(yaml.string(), "",
+                      "generator.num_nodes = " + std::to_string(config->generator.num_nodes) +
+                          " does not match the skeleton's " +
+                          std::to_string(skeleton.num_joints() - 1) + " non-root joints"));
   }
   const PartPlan plan = MakePartPlan(skeleton, config->generator.partition);
   GeneratorNet net(config->generator, plan.nodes);
@@ -53,7 +55,8 @@ GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config) {
   } catch (const c10::Error& e) {
     throw FormatError(FormatMessage(weights.string(), "",
                                     "cannot load the weights (corrupt, or from a model with other "
-                                    "sizes than model.yaml says): " + std::string(e.what_without_backtrace())));
+                                    "sizes than model.yaml says): " +
+                                        std::string(e.what_without_backtrace())));
   }
   net->eval();
   return net;

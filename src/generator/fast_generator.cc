@@ -68,7 +68,8 @@ Layer MakeLayer(const GraphConvImpl& conv, const NodeBatchNormImpl* norm, bool t
   if (norm) {
     l.has_scale = true;
     const torch::Tensor s = norm->gamma * torch::rsqrt(norm->running_var + norm->eps);  // [N, 1, H]
-    const std::vector<float> scale = ToVector(s), shift = ToVector(norm->beta - norm->running_mean * s);
+    const std::vector<float> scale = ToVector(s),
+                             shift = ToVector(norm->beta - norm->running_mean * s);
     for (int64_t n = 0; n < N; ++n) {
       for (int64_t h = 0; h < H; ++h) {
         l.scale.get()[n * Hp + h] = scale[n * H + h];
@@ -101,7 +102,8 @@ struct FastGenerator::Model {
     float *cur, *h0, *h1, *z, *q;
     Work(const Model& m, int64_t samples) {
       const int64_t sizes[] = {samples * m.N * m.C, samples * m.N * m.H, samples * m.N * m.H,
-                               samples * m.N * std::max({m.Hp, 3 * m.idct.padded, m.C + 15}), samples * m.Hp};
+                               samples * m.N * std::max({m.Hp, 3 * m.idct.padded, m.C + 15}),
+                               samples * m.Hp};
       int64_t total = 0;
       for (int64_t size : sizes) total += (size + 15) / 16 * 16;
       thread_local AlignedFloats arena;
@@ -117,12 +119,13 @@ struct FastGenerator::Model {
 
   // out = layer(x) (+ residual) for a hidden layer, [samples, N, H]. The product rows of a few
   // samples at a time, so that they are still in the L1 cache when mixed.
-  void HiddenLayer(const Layer& layer, const float* x, int64_t samples, const float* residual, float* out,
-                   Work& w) const;
+  void HiddenLayer(const Layer& layer, const float* x, int64_t samples, const float* residual,
+                   float* out, Work& w) const;
 
   // Runs part p on `samples` samples of cur [samples, N, C] (updated in place, own nodes only).
   // group > 1: the samples come in groups of `group` sharing the same input rows.
-  void RunPart(const Part& part, float* cur, int64_t samples, const float* z, int64_t group, Work& w) const;
+  void RunPart(const Part& part, float* cur, int64_t samples, const float* z, int64_t group,
+               Work& w) const;
 };
 
 bool FastGenerator::Available() { return kernels::Available(); }
@@ -155,7 +158,8 @@ FastGenerator::FastGenerator(const GeneratorNetImpl& net) : model_(std::make_uni
     for (const auto& module : *pn.blocks) {
       const auto* block = module->as<ResidualBlockImpl>();
       for (const GraphLayer& layer : {block->first, block->second}) {
-        part.hidden.push_back(MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr, true));
+        part.hidden.push_back(
+            MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr, true));
       }
     }
     part.output = MakeLayer(*pn.output, nullptr, false);
@@ -237,7 +241,8 @@ void FastGenerator::Predict(const float* histories, int64_t num_histories, int64
           for (int64_t a = 0; a < 3; ++a) coeffs[n * C + a * m.n_pre + l] += d * frame[n * 3 + a];
       }
     }
-    for (int64_t j = 0; j < k; ++j) std::copy(coeffs.begin(), coeffs.end(), w.cur + (h * k + j) * N * C);
+    for (int64_t j = 0; j < k; ++j)
+      std::copy(coeffs.begin(), coeffs.end(), w.cur + (h * k + j) * N * C);
   }
   // The parts in order; a fixed part runs on each history's first sample and is copied to the rest.
   bool varied = false;
@@ -252,7 +257,8 @@ void FastGenerator::Predict(const float* histories, int64_t num_histories, int64
       m.RunPart(m.parts[p], first.get(), num_histories, zf.get(), 1, w);
       for (int64_t b = 0; b < B; ++b) {
         for (int64_t n : m.parts[p].nodes) {
-          std::memcpy(w.cur + (b * N + n) * C, first.get() + ((b / k) * N + n) * C, sizeof(float) * C);
+          std::memcpy(w.cur + (b * N + n) * C, first.get() + ((b / k) * N + n) * C,
+                      sizeof(float) * C);
         }
       }
     } else {

@@ -30,8 +30,9 @@ class FastGenerator {
   // histories [Bh, t_his, N, 3] (root-relative, no root); z[p]: part p's latents [Bh * k, nz]
   // (sample b = h * k + j); fixed: as GeneratorNet::Decode. Writes futures [Bh * k, t_pred, N, 3].
   // Single-threaded; concurrent calls on one object are safe.
-  void Predict(const float* histories, int64_t num_histories, int64_t k, const std::vector<const float*>& z,
-               const std::vector<bool>& fixed, float* futures) const;
+  void Predict(const float* histories, int64_t num_histories, int64_t k,
+               const std::vector<const float*>& z, const std::vector<bool>& fixed,
+               float* futures) const;
 
  private:
   struct Model;

@@ -1,6 +1,5 @@
 // Compiled with -mavx2 -mfma (see CMakeLists.txt); only called when the CPU supports both.
 #include <Eigen/Core>
-
 #include <cstdint>
 
 namespace motionfork::fast::avx2 {

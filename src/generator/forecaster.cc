@@ -41,8 +41,8 @@ Forecaster Forecaster::Load(const std::string& bundle_dir) {
   impl->parts = MakePartPlan(*impl->skeleton, impl->config.generator.partition);
   const std::filesystem::path constraints = std::filesystem::path(bundle_dir) / "constraints.yaml";
   if (std::filesystem::is_regular_file(constraints)) {
-    impl->repair = std::make_unique<PoseRepair>(LoadConstraintConfig(constraints.string()), *impl->skeleton,
-                                                impl->parts);
+    impl->repair = std::make_unique<PoseRepair>(LoadConstraintConfig(constraints.string()),
+                                                *impl->skeleton, impl->parts);
   }
   return Forecaster(std::move(impl));
 }
@@ -57,12 +57,14 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
                                                    const ForecastRequest& request) const {
   const GeneratorOptions& g = impl_->config.generator;
   const int64_t N = g.num_nodes;
-  if (request.k < 1) throw std::invalid_argument("Predict: expected k >= 1 futures, got " + std::to_string(request.k));
+  if (request.k < 1)
+    throw std::invalid_argument("Predict: expected k >= 1 futures, got " +
+                                std::to_string(request.k));
   if (num_histories < 1 ||
       histories.size() != static_cast<size_t>(num_histories) * g.t_his * N * 3) {
-    throw std::invalid_argument("Predict: expected histories [" + std::to_string(num_histories) + ", " +
-                                std::to_string(g.t_his) + ", " + std::to_string(N) + ", 3], got " +
-                                std::to_string(histories.size()) + " values");
+    throw std::invalid_argument("Predict: expected histories [" + std::to_string(num_histories) +
+                                ", " + std::to_string(g.t_his) + ", " + std::to_string(N) +
+                                ", 3], got " + std::to_string(histories.size()) + " values");
   }
   for (float v : histories) {
     if (!std::isfinite(v)) throw std::invalid_argument("Predict: the history holds NaN or Inf");
@@ -71,7 +73,8 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
   torch::NoGradGuard no_grad;
   at::Generator gen = MakeGenerator(request.seed);
   const torch::Tensor h =
-      torch::from_blob(const_cast<float*>(histories.data()), {num_histories, g.t_his, N, 3}).clone();
+      torch::from_blob(const_cast<float*>(histories.data()), {num_histories, g.t_his, N, 3})
+          .clone();
   const auto z = SampleLatents(num_histories, request.k, g.nz, fixed, gen);
   // Histories in chunks of about kChunkSamples samples: the activations of a chunk stay in the
   // core's cache (16 x 50 samples at once ran 1.5x slower per history than one history at a
@@ -90,9 +93,10 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
       for (int64_t c = begin; c < end; ++c) {
         const int64_t first = c * chunk, n = std::min<int64_t>(chunk, num_histories - first);
         std::vector<const float*> zptr;
-        for (const torch::Tensor& zp : zc) zptr.push_back(zp.data_ptr<float>() + first * request.k * g.nz);
-        impl_->fast->Predict(h.data_ptr<float>() + first * g.t_his * N * 3, n, request.k, zptr, fixed,
-                             y.data_ptr<float>() + first * request.k * g.t_pred * N * 3);
+        for (const torch::Tensor& zp : zc)
+          zptr.push_back(zp.data_ptr<float>() + first * request.k * g.nz);
+        impl_->fast->Predict(h.data_ptr<float>() + first * g.t_his * N * 3, n, request.k, zptr,
+                             fixed, y.data_ptr<float>() + first * request.k * g.t_pred * N * 3);
       }
     });
   } else {
@@ -100,33 +104,39 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
     for (int64_t first = 0; first < num_histories; first += chunk) {
       const int64_t n = std::min<int64_t>(chunk, num_histories - first);
       std::vector<torch::Tensor> zc;
-      for (const torch::Tensor& zp : z) zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
-      parts_out.push_back(impl_->net->forward(h.slice(0, first, first + n), zc, fixed).slice(1, g.t_his));
+      for (const torch::Tensor& zp : z)
+        zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
+      parts_out.push_back(
+          impl_->net->forward(h.slice(0, first, first + n), zc, fixed).slice(1, g.t_his));
     }
     y = (parts_out.size() == 1 ? parts_out[0] : torch::cat(parts_out, 0)).contiguous();
   }
   if (request.repair && impl_->repair) {
     // Root back at the origin for the angle ranges, then repaired, then without it again.
-    torch::Tensor poses = torch::cat({torch::zeros({y.size(0) * g.t_pred, 1, 3}), y.view({-1, N, 3})}, 1);
+    torch::Tensor poses =
+        torch::cat({torch::zeros({y.size(0) * g.t_pred, 1, 3}), y.view({-1, N, 3})}, 1);
     // Each pose's reference layout: its history's last frame.
     const torch::Tensor last = h.select(1, g.t_his - 1);  // [Bh, N, 3]
-    const torch::Tensor templates = torch::cat({torch::zeros({num_histories, 1, 3}), last}, 1)
-                                        .repeat_interleave(static_cast<int64_t>(request.k) * g.t_pred, 0)
-                                        .contiguous();
+    const torch::Tensor templates =
+        torch::cat({torch::zeros({num_histories, 1, 3}), last}, 1)
+            .repeat_interleave(static_cast<int64_t>(request.k) * g.t_pred, 0)
+            .contiguous();
     impl_->repair->Repair(poses, templates, fixed);
     y = poses.slice(1, 1).contiguous();
   }
   return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
 }
 
-std::vector<float> Forecaster::PredictWorld(const float* history, const ForecastRequest& request) const {
+std::vector<float> Forecaster::PredictWorld(const float* history,
+                                            const ForecastRequest& request) const {
   const GeneratorOptions& g = impl_->config.generator;
   const int J = g.num_nodes + 1;
   std::vector<float> rel(static_cast<size_t>(g.t_his) * (J - 1) * 3);
   for (int t = 0; t < g.t_his; ++t) {
     const float* fr = history + static_cast<size_t>(t) * J * 3;
     for (int j = 1; j < J; ++j)
-      for (int a = 0; a < 3; ++a) rel[(static_cast<size_t>(t) * (J - 1) + j - 1) * 3 + a] = fr[3 * j + a] - fr[a];
+      for (int a = 0; a < 3; ++a)
+        rel[(static_cast<size_t>(t) * (J - 1) + j - 1) * 3 + a] = fr[3 * j + a] - fr[a];
   }
   const std::vector<float> y = PredictRootRelative(rel, 1, request);
   const float* root = history + static_cast<size_t>(g.t_his - 1) * J * 3;
@@ -141,7 +151,8 @@ std::vector<float> Forecaster::PredictWorld(const float* history, const Forecast
   return futures;
 }
 
-Forecast Forecaster::Predict(const Motion& history, int start, const ForecastRequest& request) const {
+Forecast Forecaster::Predict(const Motion& history, int start,
+                             const ForecastRequest& request) const {
   const GeneratorOptions& g = impl_->config.generator;
   const Skeleton& want = *impl_->skeleton;
   if (!history.skeleton().SameStructure(want)) {
@@ -151,12 +162,14 @@ Forecast Forecaster::Predict(const Motion& history, int start, const ForecastReq
   }
   if (std::abs(history.fps() - impl_->config.fps) > 1e-6 * impl_->config.fps) {
     throw std::invalid_argument("Predict: the history is at " + std::to_string(history.fps()) +
-                                " Hz, the model at " + std::to_string(impl_->config.fps) + " Hz; resample it");
+                                " Hz, the model at " + std::to_string(impl_->config.fps) +
+                                " Hz; resample it");
   }
   if (start < 0 || start + g.t_his > history.num_frames()) {
     throw std::invalid_argument("Predict: the model needs " + std::to_string(g.t_his) +
-                                " history frames from frame " + std::to_string(start) + ", the motion has " +
-                                std::to_string(history.num_frames()) + " frames");
+                                " history frames from frame " + std::to_string(start) +
+                                ", the motion has " + std::to_string(history.num_frames()) +
+                                " frames");
   }
   const int J = want.num_joints();
   Forecast f;

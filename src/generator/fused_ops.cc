@@ -1,8 +1,8 @@
 #include "generator/fused_ops.h"
 
 #include <ATen/Parallel.h>
-#include <Eigen/Core>
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <atomic>
 
@@ -42,14 +42,17 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
  public:
   // Returns {y, mean, var}; only y carries a gradient. Saves x (not the normalised x: the
   // backward pass recomputes it, one fewer [N, B, H] tensor written and kept).
-  static variable_list forward(AutogradContext* ctx, const torch::Tensor& x_in, const torch::Tensor& gamma_in,
-                               const torch::Tensor& beta_in, const torch::Tensor& bias, double eps) {
+  static variable_list forward(AutogradContext* ctx, const torch::Tensor& x_in,
+                               const torch::Tensor& gamma_in, const torch::Tensor& beta_in,
+                               const torch::Tensor& bias, double eps) {
     const torch::Tensor x = x_in.contiguous();
     const torch::Tensor gamma = gamma_in.contiguous(), beta = beta_in.contiguous();
     const int64_t N = x.size(0), B = x.size(1), H = x.size(2);
     torch::Tensor y = torch::empty_like(x);
-    torch::Tensor mean = torch::empty({N, 1, H}), var = torch::empty({N, 1, H}), inv = torch::empty({N, 1, H});
-    const float *px = x.data_ptr<float>(), *pg = gamma.data_ptr<float>(), *pb = beta.data_ptr<float>();
+    torch::Tensor mean = torch::empty({N, 1, H}), var = torch::empty({N, 1, H}),
+                  inv = torch::empty({N, 1, H});
+    const float *px = x.data_ptr<float>(), *pg = gamma.data_ptr<float>(),
+                *pb = beta.data_ptr<float>();
     float *py = y.data_ptr<float>(), *pm = mean.data_ptr<float>(), *pv = var.data_ptr<float>(),
           *pi = inv.data_ptr<float>();
     const bool avx512 = UseAvx512();
@@ -57,8 +60,8 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
       for (int64_t n = n0; n < n1; ++n) {
         const int64_t o = n * B * H, c = n * H;
         if (avx512) {
-          kernels::BatchNormTanhForward(px + o, B, H, pg + c, pb + c, static_cast<float>(eps), pm + c, pv + c,
-                                        pi + c, py + o);
+          kernels::BatchNormTanhForward(px + o, B, H, pg + c, pb + c, static_cast<float>(eps),
+                                        pm + c, pv + c, pi + c, py + o);
           continue;
         }
         Row m(pm + c, H), v(pv + c, H), iv(pi + c, H);
@@ -84,22 +87,24 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
 
   static variable_list backward(AutogradContext* ctx, variable_list grad) {
     const auto saved = ctx->get_saved_variables();
-    const torch::Tensor &x = saved[0], &y = saved[1], &gamma = saved[2], &mean = saved[3], &inv = saved[4];
+    const torch::Tensor &x = saved[0], &y = saved[1], &gamma = saved[2], &mean = saved[3],
+                        &inv = saved[4];
     const torch::Tensor gy = grad[0].contiguous();
     const int64_t N = y.size(0), B = y.size(1), H = y.size(2);
-    torch::Tensor gx = torch::empty_like(y), ggamma = torch::empty({N, 1, H}), gbeta = torch::empty({N, 1, H}),
-                  gsum = torch::empty({N, H});
+    torch::Tensor gx = torch::empty_like(y), ggamma = torch::empty({N, 1, H}),
+                  gbeta = torch::empty({N, 1, H}), gsum = torch::empty({N, H});
     const float *px = x.data_ptr<float>(), *py = y.data_ptr<float>(), *pgy = gy.data_ptr<float>(),
-                *pm = mean.data_ptr<float>(), *pi = inv.data_ptr<float>(), *pg = gamma.data_ptr<float>();
-    float *pgx = gx.data_ptr<float>(), *pgg = ggamma.data_ptr<float>(), *pgb = gbeta.data_ptr<float>(),
-          *pgs = gsum.data_ptr<float>();
+                *pm = mean.data_ptr<float>(), *pi = inv.data_ptr<float>(),
+                *pg = gamma.data_ptr<float>();
+    float *pgx = gx.data_ptr<float>(), *pgg = ggamma.data_ptr<float>(),
+          *pgb = gbeta.data_ptr<float>(), *pgs = gsum.data_ptr<float>();
     const bool avx512 = UseAvx512();
     at::parallel_for(0, N, 1, [&](int64_t n0, int64_t n1) {
       for (int64_t n = n0; n < n1; ++n) {
         const int64_t o = n * B * H, c = n * H;
         if (avx512) {
-          kernels::BatchNormTanhBackward(pgy + o, px + o, py + o, pm + c, pi + c, pg + c, B, H, pgx + o, pgg + c,
-                                         pgb + c, pgs + c);
+          kernels::BatchNormTanhBackward(pgy + o, px + o, py + o, pm + c, pi + c, pg + c, B, H,
+                                         pgx + o, pgg + c, pgb + c, pgs + c);
           continue;
         }
         Row gg(pgg + c, H), gb(pgb + c, H);
@@ -137,13 +142,15 @@ torch::Tensor MixNodes(const torch::Tensor& a, const torch::Tensor& x) {
   torch::Tensor y = torch::empty_like(x);
   const float *pa = a.data_ptr<float>(), *px = x.data_ptr<float>();
   float* py = y.data_ptr<float>();
-  at::parallel_for(0, C, 4096, [&](int64_t j0, int64_t j1) { kernels::NodeMix(pa, N, px, C, j0, j1, py); });
+  at::parallel_for(0, C, 4096,
+                   [&](int64_t j0, int64_t j1) { kernels::NodeMix(pa, N, px, C, j0, j1, py); });
   return y;
 }
 
 class NodeMixFn : public torch::autograd::Function<NodeMixFn> {
  public:
-  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& a_in, const torch::Tensor& x_in) {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& a_in,
+                               const torch::Tensor& x_in) {
     const torch::Tensor a = a_in.contiguous(), x = x_in.contiguous();
     ctx->save_for_backward({a, x});
     return MixNodes(a, x);
@@ -192,7 +199,8 @@ torch::Tensor PanelProduct(const torch::Tensor& x_in, const torch::Tensor& w_in)
 
 class WeightProductFn : public torch::autograd::Function<WeightProductFn> {
  public:
-  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& x, const torch::Tensor& w) {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& x,
+                               const torch::Tensor& w) {
     ctx->save_for_backward({x, w});
     return PanelProduct(x, w);
   }
@@ -207,7 +215,8 @@ class WeightProductFn : public torch::autograd::Function<WeightProductFn> {
 }  // namespace
 
 torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w) {
-  if (!UseAvx512() || x.size(0) < kMinKernelRows || x.scalar_type() != torch::kFloat) return x.mm(w);
+  if (!UseAvx512() || x.size(0) < kMinKernelRows || x.scalar_type() != torch::kFloat)
+    return x.mm(w);
   return WeightProductFn::apply(x, w);
 }
 

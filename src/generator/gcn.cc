@@ -1,8 +1,8 @@
 #include "generator/gcn.h"
 
-#include "generator/fused_ops.h"
-
 #include <cmath>
+
+#include "generator/fused_ops.h"
 
 namespace motionfork {
 
@@ -10,7 +10,8 @@ GraphConvImpl::GraphConvImpl(int64_t nodes, int64_t in_features, int64_t out_fea
                              int64_t shared_features) {
   // GSPS initialisation: uniform(-1/sqrt(out), 1/sqrt(out)) for every parameter.
   const double stdv = 1.0 / std::sqrt(static_cast<double>(out_features));
-  weight = register_parameter("weight", torch::empty({in_features, out_features}).uniform_(-stdv, stdv));
+  weight =
+      register_parameter("weight", torch::empty({in_features, out_features}).uniform_(-stdv, stdv));
   if (shared_features > 0) {
     shared_weight = register_parameter(
         "shared_weight", torch::empty({shared_features, out_features}).uniform_(-stdv, stdv));
@@ -63,7 +64,8 @@ GraphLayerImpl::GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t s
   if (batch_norm) norm = register_module("norm", NodeBatchNorm(nodes, out));
 }
 
-torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z, int64_t copies) {
+torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z,
+                                      int64_t copies) {
   torch::Tensor y;
   const double n = static_cast<double>(x.size(1) * copies);  // samples the batch stands for
   if (!norm) {
@@ -86,7 +88,8 @@ torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tenso
   return y;
 }
 
-ResidualBlockImpl::ResidualBlockImpl(int64_t nodes, int64_t features, bool batch_norm, double dropout) {
+ResidualBlockImpl::ResidualBlockImpl(int64_t nodes, int64_t features, bool batch_norm,
+                                     double dropout) {
   first = register_module("first", GraphLayer(nodes, features, features, 0, batch_norm, dropout));
   second = register_module("second", GraphLayer(nodes, features, features, 0, batch_norm, dropout));
 }
@@ -97,7 +100,8 @@ torch::Tensor ResidualBlockImpl::forward(const torch::Tensor& x, int64_t copies)
 
 PartNetworkImpl::PartNetworkImpl(int64_t nodes, int64_t coeff_features, int64_t hidden,
                                  int64_t num_blocks, int64_t nz, bool batch_norm, double dropout) {
-  input = register_module("input", GraphLayer(nodes, coeff_features, hidden, nz, batch_norm, dropout));
+  input =
+      register_module("input", GraphLayer(nodes, coeff_features, hidden, nz, batch_norm, dropout));
   blocks = register_module("blocks", torch::nn::ModuleList());
   for (int64_t i = 0; i < num_blocks; ++i) {
     blocks->push_back(ResidualBlock(nodes, hidden, batch_norm, dropout));
@@ -105,7 +109,8 @@ PartNetworkImpl::PartNetworkImpl(int64_t nodes, int64_t coeff_features, int64_t 
   output = register_module("output", GraphConv(nodes, hidden, coeff_features, 0));
 }
 
-torch::Tensor PartNetworkImpl::forward(const torch::Tensor& coeffs, const torch::Tensor& z, int64_t copies) {
+torch::Tensor PartNetworkImpl::forward(const torch::Tensor& coeffs, const torch::Tensor& z,
+                                       int64_t copies) {
   torch::Tensor y = input->forward(coeffs, z, copies);
   for (const auto& block : *blocks) y = block->as<ResidualBlock>()->forward(y, copies);
   return output->forward(y) + coeffs;

@@ -14,7 +14,8 @@ namespace motionfork {
 // concatenating z to every node's features, without building the concatenation.
 class GraphConvImpl : public torch::nn::Module {
  public:
-  GraphConvImpl(int64_t nodes, int64_t in_features, int64_t out_features, int64_t shared_features = 0);
+  GraphConvImpl(int64_t nodes, int64_t in_features, int64_t out_features,
+                int64_t shared_features = 0);
   // x: [N, B, in]; z: [B, shared] or undefined. Returns [N, B, out].
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& z = {});
   // A (X W [+ z Wz]) without the bias (for a batch norm that takes the bias itself).
@@ -44,7 +45,8 @@ TORCH_MODULE(NodeBatchNorm);
 // unbiased correction, B * copies / (B * copies - 1), sees the count.
 class GraphLayerImpl : public torch::nn::Module {
  public:
-  GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t shared, bool batch_norm, double dropout);
+  GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t shared, bool batch_norm,
+                 double dropout);
   torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& z = {}, int64_t copies = 1);
 
   GraphConv conv{nullptr};

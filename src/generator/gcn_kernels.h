@@ -55,8 +55,9 @@ struct LayerEpilogue {
 // (+ residual[n, :H] when residual is not null), for the nodes listed in `nodes` (null: all N, in
 // order). z: the sample's N product rows (stride padded); shared: [padded] or null; out and
 // residual rows have stride ld (they may be the same rows: the update is in place).
-void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width, const float* shared,
-             const int64_t* nodes, int64_t count, const float* residual, float* out, int64_t ld);
+void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width,
+             const float* shared, const int64_t* nodes, int64_t count, const float* residual,
+             float* out, int64_t ld);
 
 // x[i] = tanh(x[i]), within 3e-7 of std::tanh (exposed for the tests).
 void Tanh(float* x, int64_t n);

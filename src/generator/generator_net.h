@@ -9,8 +9,8 @@
 
 #include <vector>
 
-#include "generator/gcn.h"
 #include "config/generator_options.h"
+#include "generator/gcn.h"
 
 namespace motionfork {
 
@@ -64,7 +64,7 @@ class GeneratorNetImpl : public torch::nn::Module {
   std::vector<PartNetwork> parts_;
   std::vector<torch::Tensor> masks_;  // [N, 1, 1] bool per part
   torch::Tensor dct_;                 // [n_pre, T]
-  torch::Tensor idct_;                // [n_pre, T] (rows of the orthonormal DCT: its transpose inverts)
+  torch::Tensor idct_;  // [n_pre, T] (rows of the orthonormal DCT: its transpose inverts)
 };
 TORCH_MODULE(GeneratorNet);
 

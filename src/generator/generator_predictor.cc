@@ -9,17 +9,25 @@
 
 namespace motionfork {
 
-GeneratorPredictor::GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash, bool repair)
-    : forecaster_(std::move(forecaster)), name_(std::move(name)), hash_(std::move(bundle_hash)), repair_(repair) {}
+GeneratorPredictor::GeneratorPredictor(Forecaster forecaster, std::string name,
+                                       std::string bundle_hash, bool repair)
+    : forecaster_(std::move(forecaster)),
+      name_(std::move(name)),
+      hash_(std::move(bundle_hash)),
+      repair_(repair) {}
 
 std::string GeneratorPredictor::description() const {
   const GeneratorOptions& g = forecaster_.config().generator;
-  return "GSPS-style generator (" + forecaster_.config().protocol + ", n_pre " + std::to_string(g.n_pre) +
-         ", hidden " + std::to_string(g.hidden) + ", " + std::to_string(forecaster_.parts().num_parts()) + " parts" +
-         (forecaster_.repairs() ? (repair_ ? ", angle-range repair on" : ", angle-range repair off") : "") + ")";
+  return "GSPS-style generator (" + forecaster_.config().protocol + ", n_pre " +
+         std::to_string(g.n_pre) + ", hidden " + std::to_string(g.hidden) + ", " +
+         std::to_string(forecaster_.parts().num_parts()) + " parts" +
+         (forecaster_.repairs() ? (repair_ ? ", angle-range repair on" : ", angle-range repair off")
+                                : "") +
+         ")";
 }
 
-void GeneratorPredictor::DoPredict(const float* history, const PredictRequest& request, float* futures) {
+void GeneratorPredictor::DoPredict(const float* history, const PredictRequest& request,
+                                   float* futures) {
   ForecastRequest req;
   req.k = request.num_samples;
   req.seed = request.seed;
@@ -30,7 +38,8 @@ void GeneratorPredictor::DoPredict(const float* history, const PredictRequest& r
 }
 
 std::string GeneratorBundleHash(const std::string& bundle_dir) {
-  const std::string bytes = ReadFileBytes((std::filesystem::path(bundle_dir) / "generator.pt").string());
+  const std::string bytes =
+      ReadFileBytes((std::filesystem::path(bundle_dir) / "generator.pt").string());
   char hex[17];
   std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(Fnv1a64(bytes)));
   return hex;

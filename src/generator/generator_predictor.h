@@ -13,7 +13,8 @@ class GeneratorPredictor : public Predictor {
  public:
   // bundle_hash: identity of the weights (e.g. a hash of generator.pt) for reports. repair: the
   // forecaster's angle-range repair (ForecastRequest::repair).
-  GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash, bool repair = true);
+  GeneratorPredictor(Forecaster forecaster, std::string name, std::string bundle_hash,
+                     bool repair = true);
 
   std::string name() const override { return name_; }
   std::string description() const override;

@@ -60,8 +60,8 @@ inline float Sign(float v) { return static_cast<float>((v > 0) - (v < 0)); }
 class GroupL1Fn : public torch::autograd::Function<GroupL1Fn> {
  public:
   // rows: [G, n] int64.
-  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& pred_in, const torch::Tensor& rows,
-                               Layout layout) {
+  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& pred_in,
+                               const torch::Tensor& rows, Layout layout) {
     const torch::Tensor pred = pred_in.contiguous();
     const int64_t G = rows.size(0), n = rows.size(1), D = layout.width();
     const int64_t* r = rows.data_ptr<int64_t>();
@@ -122,7 +122,6 @@ class GroupL1Fn : public torch::autograd::Function<GroupL1Fn> {
     });
     return {grad, torch::Tensor(), torch::Tensor()};
   }
-
 };
 
 }  // namespace
@@ -134,19 +133,21 @@ torch::Tensor GroupL1Distances(const torch::Tensor& pred, const torch::Tensor& r
                                 c10::str(pred.sizes()));
   }
   const int64_t B = pred.size(0), T = pred.size(1), N = pred.size(2);
-  if (rows_in.dim() != 2 || rows_in.numel() == 0 || rows_in.scalar_type() != torch::kLong || t_from < 0 ||
-      t_from >= T || nodes.empty()) {
-    throw std::invalid_argument("group distances: expected int64 sample indices [G, n] (not empty), >= 1 node "
-                                "and a first frame in 0.." + std::to_string(T - 1) + ", got " +
-                                c10::str(rows_in.sizes()) + " and t_from " + std::to_string(t_from));
+  if (rows_in.dim() != 2 || rows_in.numel() == 0 || rows_in.scalar_type() != torch::kLong ||
+      t_from < 0 || t_from >= T || nodes.empty()) {
+    throw std::invalid_argument(
+        "group distances: expected int64 sample indices [G, n] (not empty), >= 1 node "
+        "and a first frame in 0.." +
+        std::to_string(T - 1) + ", got " + c10::str(rows_in.sizes()) + " and t_from " +
+        std::to_string(t_from));
   }
   const torch::Tensor rows = rows_in.contiguous();
   std::vector<char> seen(static_cast<size_t>(B), 0);
   const int64_t* r = rows.data_ptr<int64_t>();
   for (int64_t i = 0; i < rows.numel(); ++i) {
     if (r[i] < 0 || r[i] >= B || seen[r[i]]) {
-      throw std::invalid_argument("group distances: sample " + std::to_string(r[i]) + " out of 0.." +
-                                  std::to_string(B - 1) + " or in two groups");
+      throw std::invalid_argument("group distances: sample " + std::to_string(r[i]) +
+                                  " out of 0.." + std::to_string(B - 1) + " or in two groups");
     }
     seen[r[i]] = 1;
   }

@@ -11,9 +11,9 @@
 namespace motionfork {
 
 // pred [B, T, N, 3] (contiguous float, differentiable); rows [G, n] int64: sample indices, each
-// group's n samples; a sample may appear in one group only. Distances sum |pred[a] - pred[b]| over frames
-// t_from..T-1, the given nodes and the three axes. Returns [G, n, n] (symmetric, zero diagonal).
-// The gradient's sign of a zero difference is zero (as LibTorch's cdist).
+// group's n samples; a sample may appear in one group only. Distances sum |pred[a] - pred[b]| over
+// frames t_from..T-1, the given nodes and the three axes. Returns [G, n, n] (symmetric, zero
+// diagonal). The gradient's sign of a zero difference is zero (as LibTorch's cdist).
 torch::Tensor GroupL1Distances(const torch::Tensor& pred, const torch::Tensor& rows,
                                const std::vector<int64_t>& nodes, int64_t t_from);
 

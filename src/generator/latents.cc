@@ -18,7 +18,9 @@ std::vector<torch::Tensor> SampleLatents(int64_t histories, int64_t k, int64_t n
   std::vector<torch::Tensor> z;
   for (bool f : fixed) {
     if (f) {
-      z.push_back(torch::randn({histories, 1, nz}, gen).expand({histories, k, nz}).reshape({histories * k, nz}));
+      z.push_back(torch::randn({histories, 1, nz}, gen)
+                      .expand({histories, k, nz})
+                      .reshape({histories * k, nz}));
     } else {
       z.push_back(torch::randn({histories * k, nz}, gen));
     }

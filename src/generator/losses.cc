@@ -13,8 +13,8 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
   int64_t K = 1;
   for (int64_t n : b.per_part) K *= n;
   if (b.pred.size(0) != Bh * K) {
-    throw std::invalid_argument("losses: expected " + std::to_string(Bh * K) + " predictions, got " +
-                                std::to_string(b.pred.size(0)));
+    throw std::invalid_argument("losses: expected " + std::to_string(Bh * K) +
+                                " predictions, got " + std::to_string(b.pred.size(0)));
   }
   const torch::Tensor pred = b.pred.view({Bh, K, T, N, 3});
   LossTerms out;
@@ -49,7 +49,8 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
     const torch::Tensor d = GroupL1Distances(b.pred, rows, b.part_nodes[p], b.t_his);  // [G, n, n]
     const torch::Tensor upper = torch::triu(torch::ones({n, n}, torch::kBool), 1);
     const torch::Tensor pairs = d.masked_select(upper.unsqueeze(0).expand_as(d));
-    add("diversity_" + std::to_string(p), torch::exp(-pairs / w.diversity_scale[p]).mean(), w.diversity[p]);
+    add("diversity_" + std::to_string(p), torch::exp(-pairs / w.diversity_scale[p]).mean(),
+        w.diversity[p]);
     before *= n;
   }
 
@@ -61,12 +62,14 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
     // matrix product): the direct difference would be a [Bh, M, K, t_pred, N, 3] tensor (300 MB
     // at GSPS's sizes, kept for the backward pass), and took most of the step's loss time.
     // The pseudo futures padded with zeros over the history's frames meet the whole predictions,
-    // which need no copy (a slice of their future frames would) and get their gradient in one piece.
+    // which need no copy (a slice of their future frames would) and get their gradient in one
+    // piece.
     const torch::Tensor p = b.pseudo.reshape({Bh, M, D});
     const torch::Tensor padded = torch::cat({torch::zeros({Bh, M, b.t_his * N * 3}), p}, 2);
-    const torch::Tensor err = (p.pow(2).sum(-1).unsqueeze(2) + errors.future_norm.unsqueeze(1) -
-                               2 * torch::bmm(padded, pred.view({Bh, K, T * N * 3}).transpose(1, 2)))
-                                  .clamp_min(0);
+    const torch::Tensor err =
+        (p.pow(2).sum(-1).unsqueeze(2) + errors.future_norm.unsqueeze(1) -
+         2 * torch::bmm(padded, pred.view({Bh, K, T * N * 3}).transpose(1, 2)))
+            .clamp_min(0);
     const torch::Tensor best = std::get<0>(err.min(2));  // [Bh, M]
     add("multimodal", (best * b.pseudo_mask).sum() / b.pseudo_mask.sum(), w.multimodal);
   } else {

@@ -13,11 +13,11 @@
 namespace motionfork {
 
 struct LossBatch {
-  torch::Tensor pred;         // [Bh * K, T, N, 3], K = prod(per_part), nested sample order
-  torch::Tensor truth;        // [Bh, T, N, 3]
-  torch::Tensor pseudo;       // [Bh, M, t_pred, N, 3] pseudo multimodal futures (M may be 0)
-  torch::Tensor pseudo_mask;  // [Bh, M] 1 where a pseudo future exists
-  std::vector<int64_t> per_part;                // nested samples per part
+  torch::Tensor pred;             // [Bh * K, T, N, 3], K = prod(per_part), nested sample order
+  torch::Tensor truth;            // [Bh, T, N, 3]
+  torch::Tensor pseudo;           // [Bh, M, t_pred, N, 3] pseudo multimodal futures (M may be 0)
+  torch::Tensor pseudo_mask;      // [Bh, M] 1 where a pseudo future exists
+  std::vector<int64_t> per_part;  // nested samples per part
   std::vector<std::vector<int64_t>> part_nodes;  // nodes of each part
   std::vector<int64_t> node_parents;             // parent node per node, -1 = the root (origin)
   int64_t t_his = 0;

@@ -12,12 +12,13 @@ namespace motionfork::kernels {
 
 // y[n, j] = sum_m a[n, m] s[m, j] for columns j0 <= j < j1; a [N, N] row-major, s and y [N, ld]
 // row-major (y may not alias s).
-void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1, float* y);
+void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1,
+             float* y);
 
 // Both gradients of y = A s in one pass over columns j0 <= j < j1 of g = dL/dy and s: gs = A^T g
 // (written, [N, ld]) and dA = g s^T, added to ga ([N, N], the caller sums the column ranges).
 // at: A^T [N, N] row-major.
-void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float* s, int64_t ld, int64_t j0,
-                     int64_t j1, float* gs, float* ga);
+void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float* s, int64_t ld,
+                     int64_t j0, int64_t j1, float* gs, float* ga);
 
 }  // namespace motionfork::kernels

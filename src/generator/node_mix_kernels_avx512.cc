@@ -20,14 +20,16 @@ void Masks(int64_t j, int64_t j1, __mmask16 mask[4]) {
 }
 
 // y[n, j..j+63] = sum_m a[n, m] s[m, j..j+63] for every n.
-inline void MixStep(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j, const __mmask16 mask[4],
-                    float* y) {
+inline void MixStep(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j,
+                    const __mmask16 mask[4], float* y) {
   for (int64_t n = 0; n < nodes; ++n) {
-    __m512 acc[4] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps()};
+    __m512 acc[4] = {_mm512_setzero_ps(), _mm512_setzero_ps(), _mm512_setzero_ps(),
+                     _mm512_setzero_ps()};
     for (int64_t m = 0; m < nodes; ++m) {
       const __m512 w = _mm512_set1_ps(a[n * nodes + m]);
       const float* row = s + m * ld + j;
-      for (int v = 0; v < 4; ++v) acc[v] = _mm512_fmadd_ps(w, _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc[v]);
+      for (int v = 0; v < 4; ++v)
+        acc[v] = _mm512_fmadd_ps(w, _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc[v]);
     }
     float* out = y + n * ld + j;
     for (int v = 0; v < 4; ++v) _mm512_mask_storeu_ps(out + 16 * v, mask[v], acc[v]);
@@ -36,7 +38,8 @@ inline void MixStep(const float* a, int64_t nodes, const float* s, int64_t ld, i
 
 }  // namespace
 
-void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1, float* y) {
+void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t j0, int64_t j1,
+             float* y) {
   __mmask16 mask[4];
   for (int64_t j = j0; j < j1; j += kWidth) {
     Masks(j, j1, mask);
@@ -44,8 +47,8 @@ void NodeMix(const float* a, int64_t nodes, const float* s, int64_t ld, int64_t 
   }
 }
 
-void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float* s, int64_t ld, int64_t j0,
-                     int64_t j1, float* gs, float* ga) {
+void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float* s, int64_t ld,
+                     int64_t j0, int64_t j1, float* gs, float* ga) {
   // dA's sums as one register of partial sums per (n, m), kept in memory (N x N x 64 bytes:
   // 16 KB at N = 16, L1-resident).
   const int64_t pairs = nodes * nodes;
@@ -61,7 +64,8 @@ void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float
       for (int64_t m = 0; m < nodes; ++m) {
         const float* row = s + m * ld + j;
         __m512 acc = part[n * nodes + m];
-        for (int v = 0; v < 4; ++v) acc = _mm512_fmadd_ps(gn[v], _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc);
+        for (int v = 0; v < 4; ++v)
+          acc = _mm512_fmadd_ps(gn[v], _mm512_maskz_loadu_ps(mask[v], row + 16 * v), acc);
         part[n * nodes + m] = acc;
       }
     }

@@ -41,14 +41,16 @@ inline float Bone(const float* p, int64_t n, int64_t parent, float d[3]) {
 class PoseErrorsFn : public torch::autograd::Function<PoseErrorsFn> {
  public:
   // truth_len [Bh, N]: the truth's bone lengths at frame t_his - 1.
-  static variable_list forward(AutogradContext* ctx, const torch::Tensor& pred_in, const torch::Tensor& truth_in,
-                               const torch::Tensor& truth_len_in, int64_t t_his, std::vector<int64_t> parents) {
+  static variable_list forward(AutogradContext* ctx, const torch::Tensor& pred_in,
+                               const torch::Tensor& truth_in, const torch::Tensor& truth_len_in,
+                               int64_t t_his, std::vector<int64_t> parents) {
     const torch::Tensor pred = pred_in.contiguous(), truth = truth_in.contiguous(),
                         truth_len = truth_len_in.contiguous();
     const Sizes s = SizesOf(pred, t_his);
     torch::Tensor past = torch::empty({s.Bh, s.K}), future = torch::empty({s.Bh, s.K}),
                   future_norm = torch::empty({s.Bh, s.K}), limb = torch::empty({s.Bh, s.K, s.T});
-    const float *pp = pred.data_ptr<float>(), *pt = truth.data_ptr<float>(), *pl = truth_len.data_ptr<float>();
+    const float *pp = pred.data_ptr<float>(), *pt = truth.data_ptr<float>(),
+                *pl = truth_len.data_ptr<float>();
     float *o_past = past.data_ptr<float>(), *o_future = future.data_ptr<float>(),
           *o_norm = future_norm.data_ptr<float>(), *o_limb = limb.data_ptr<float>();
     const int64_t pose = s.N * 3;
@@ -103,16 +105,18 @@ class PoseErrorsFn : public torch::autograd::Function<PoseErrorsFn> {
     const torch::Tensor g_norm = contiguous_or_zeros(grad[2], {s.Bh, s.K});
     const torch::Tensor g_limb = contiguous_or_zeros(grad[3], {s.Bh, s.K, s.T});
     torch::Tensor g_pred = torch::empty_like(pred);
-    const float *pp = pred.data_ptr<float>(), *pt = truth.data_ptr<float>(), *pl = truth_len.data_ptr<float>();
-    const float *gp = g_past.data_ptr<float>(), *gf = g_future.data_ptr<float>(), *gn = g_norm.data_ptr<float>(),
-                *gl = g_limb.data_ptr<float>();
+    const float *pp = pred.data_ptr<float>(), *pt = truth.data_ptr<float>(),
+                *pl = truth_len.data_ptr<float>();
+    const float *gp = g_past.data_ptr<float>(), *gf = g_future.data_ptr<float>(),
+                *gn = g_norm.data_ptr<float>(), *gl = g_limb.data_ptr<float>();
     float* out = g_pred.data_ptr<float>();
     const int64_t pose = s.N * 3;
     at::parallel_for(0, s.Bh * s.K, 1, [&](int64_t i0, int64_t i1) {
       for (int64_t i = i0; i < i1; ++i) {
         const auto [p, t, b] = SampleAt(s, pp, pt, i);
         float* g = out + i * s.T * pose;
-        const float past = 2.0f * gp[i] / static_cast<float>(s.t_his), future = 2.0f * gf[i], norm = 2.0f * gn[i];
+        const float past = 2.0f * gp[i] / static_cast<float>(s.t_his), future = 2.0f * gf[i],
+                    norm = 2.0f * gn[i];
         for (int64_t f = 0; f < s.T; ++f) {
           const float* pf = p + f * pose;
           const float* tf = t + f * pose;
@@ -145,12 +149,14 @@ class PoseErrorsFn : public torch::autograd::Function<PoseErrorsFn> {
 
 PoseErrors ComputePoseErrors(const torch::Tensor& pred, const torch::Tensor& truth, int64_t t_his,
                              const std::vector<int64_t>& node_parents) {
-  if (pred.dim() != 5 || truth.dim() != 4 || pred.size(0) != truth.size(0) || pred.size(2) != truth.size(1) ||
-      pred.size(3) != truth.size(2) || pred.size(4) != 3 || truth.size(3) != 3 ||
-      static_cast<int64_t>(node_parents.size()) != pred.size(3) || t_his < 1 || t_his >= pred.size(2)) {
-    throw std::invalid_argument("pose errors: expected pred [Bh, K, T, N, 3] and truth [Bh, T, N, 3] with N = " +
-                                std::to_string(node_parents.size()) + " and 0 < t_his < T, got " +
-                                c10::str(pred.sizes()) + " and " + c10::str(truth.sizes()));
+  if (pred.dim() != 5 || truth.dim() != 4 || pred.size(0) != truth.size(0) ||
+      pred.size(2) != truth.size(1) || pred.size(3) != truth.size(2) || pred.size(4) != 3 ||
+      truth.size(3) != 3 || static_cast<int64_t>(node_parents.size()) != pred.size(3) ||
+      t_his < 1 || t_his >= pred.size(2)) {
+    throw std::invalid_argument(
+        "pose errors: expected pred [Bh, K, T, N, 3] and truth [Bh, T, N, 3] with N = " +
+        std::to_string(node_parents.size()) + " and 0 < t_his < T, got " + c10::str(pred.sizes()) +
+        " and " + c10::str(truth.sizes()));
   }
   // The truth's bone lengths at the last history frame [Bh, N] (constant), as the predictions' are
   // measured.
@@ -165,7 +171,8 @@ PoseErrors ComputePoseErrors(const torch::Tensor& pred, const torch::Tensor& tru
       len[b * N + n] = Bone(pose + b * N * 3, n, node_parents[n], d);
     }
   }
-  const variable_list out = PoseErrorsFn::apply(pred, truth.detach(), truth_len, t_his, node_parents);
+  const variable_list out =
+      PoseErrorsFn::apply(pred, truth.detach(), truth_len, t_his, node_parents);
   return {out[0], out[1], out[2], out[3]};
 }
 

@@ -12,10 +12,11 @@
 namespace motionfork {
 
 struct PoseErrors {
-  torch::Tensor past;         // [Bh, K]: sum over nodes and axes of (pred - truth)^2, mean over past frames
+  torch::Tensor
+      past;  // [Bh, K]: sum over nodes and axes of (pred - truth)^2, mean over past frames
   torch::Tensor future;       // [Bh, K]: the same summed over the future frames
   torch::Tensor future_norm;  // [Bh, K]: sum over future frames, nodes, axes of pred^2
-  torch::Tensor limb;         // [Bh, K, T]: sum over bones of (|bone| - truth's |bone| at t_his - 1)^2
+  torch::Tensor limb;  // [Bh, K, T]: sum over bones of (|bone| - truth's |bone| at t_his - 1)^2
 };
 
 // pred [Bh, K, T, N, 3] (differentiable), truth [Bh, T, N, 3] (constant); node_parents[n]: the

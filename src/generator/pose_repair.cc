@@ -19,8 +19,8 @@ struct PoseRepair::Impl {
   std::vector<std::set<int>> part_joints;
   torch::Tensor bone_child, bone_parent;  // [J - 1] int64
   int num_joints = 0;
-  std::vector<std::vector<int>> rigid;     // joints of each rigid group (not the root)
-  std::vector<std::vector<int>> subtree;   // per joint: itself and its descendants
+  std::vector<std::vector<int>> rigid;    // joints of each rigid group (not the root)
+  std::vector<std::vector<int>> subtree;  // per joint: itself and its descendants
 };
 
 namespace {
@@ -84,14 +84,15 @@ Matrix3d FitTwist(const Vector3d& ud, const Vector3d& vd, const std::vector<Vect
   return Eigen::AngleAxisd(std::atan2(s, c), axis).toRotationMatrix() * r0;
 }
 
-torch::Tensor BoneLengths(const torch::Tensor& poses, const torch::Tensor& child, const torch::Tensor& parent) {
+torch::Tensor BoneLengths(const torch::Tensor& poses, const torch::Tensor& child,
+                          const torch::Tensor& parent) {
   return (poses.index_select(1, child) - poses.index_select(1, parent)).norm(2, -1);
 }
 
 }  // namespace
 
-PoseRepair::PoseRepair(const ConstraintSetSpec& spec, const Skeleton& skeleton, const PartPlan& parts,
-                       const PoseRepairOptions& options)
+PoseRepair::PoseRepair(const ConstraintSetSpec& spec, const Skeleton& skeleton,
+                       const PartPlan& parts, const PoseRepairOptions& options)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.options = options;
@@ -99,7 +100,8 @@ PoseRepair::PoseRepair(const ConstraintSetSpec& spec, const Skeleton& skeleton, 
   every_bound.cos_limit = 1.0;  // repair every bound, not only GSPS's training subset
   const ConstraintSet set = ConstraintSet::Build(spec, skeleton);
   m.original = AnglePenalty(set, every_bound);
-  m.narrowed = AnglePenalty(ConstraintSet::Build(Narrowed(spec, options.margin_deg), skeleton), every_bound);
+  m.narrowed =
+      AnglePenalty(ConstraintSet::Build(Narrowed(spec, options.margin_deg), skeleton), every_bound);
   for (const Constraint& c : set.constraints()) {
     std::set<int> joints;
     RegisterJoints(set, c.a, &joints);
@@ -117,9 +119,10 @@ PoseRepair::PoseRepair(const ConstraintSetSpec& spec, const Skeleton& skeleton, 
     for (const std::string& name : group) {
       const std::optional<int> j = skeleton.Find(name);
       if (!j || *j == 0) {
-        throw std::invalid_argument(spec.source + ": rigid group joint '" + name + "' is " +
-                                    (j ? "the root" : "not a joint of skeleton '" + skeleton.name() + "'") +
-                                    "; expected a non-root joint");
+        throw std::invalid_argument(
+            spec.source + ": rigid group joint '" + name + "' is " +
+            (j ? "the root" : "not a joint of skeleton '" + skeleton.name() + "'") +
+            "; expected a non-root joint");
       }
       joints.push_back(*j);
     }
@@ -142,7 +145,8 @@ PoseRepair& PoseRepair::operator=(PoseRepair&&) noexcept = default;
 // Stage 1 for one part: each rigid group with joints in `own` put back on its template layout,
 // turned to fit the joints decided earlier (when any) or its own joints.
 void PoseRepair::RigidStage(const Impl& m, torch::Tensor& poses, const torch::Tensor& templates,
-                            const std::set<int>& decided, const std::set<int>& own, bool own_fixed) {
+                            const std::set<int>& decided, const std::set<int>& own,
+                            bool own_fixed) {
   if (m.rigid.empty()) return;
   const int64_t M = poses.size(0);
   const int J = m.num_joints;
@@ -151,8 +155,10 @@ void PoseRepair::RigidStage(const Impl& m, torch::Tensor& poses, const torch::Te
   for (const std::vector<int>& group : m.rigid) {
     std::vector<int> mine, before, all;
     for (int j : group) {
-      if (own.count(j)) mine.push_back(j);
-      else if (decided.count(j)) before.push_back(j);
+      if (own.count(j))
+        mine.push_back(j);
+      else if (decided.count(j))
+        before.push_back(j);
     }
     if (mine.empty()) continue;
     // With nothing placed yet, a varying part fits the rotation to the whole group as predicted
@@ -162,16 +168,21 @@ void PoseRepair::RigidStage(const Impl& m, torch::Tensor& poses, const torch::Te
     for (int64_t i = 0; i < M; ++i) {
       float* p = x + i * J * 3;
       const float* q = t + i * J * 3;
-      auto at = [](const float* a, int j) { return Vector3d(a[3 * j], a[3 * j + 1], a[3 * j + 2]); };
+      auto at = [](const float* a, int j) {
+        return Vector3d(a[3 * j], a[3 * j + 1], a[3 * j + 2]);
+      };
       u.clear(), v.clear(), um.clear(), vm.clear();
       for (int j : before) u.push_back(at(q, j)), v.push_back(at(p, j));
       for (int j : mine) um.push_back(at(q, j)), vm.push_back(at(p, j));
       ua.clear(), va.clear();
       for (int j : all) ua.push_back(at(q, j)), va.push_back(at(p, j));
       Matrix3d r;
-      if (before.size() >= 2) r = FitRotation(u, v);
-      else if (before.size() == 1) r = FitTwist(u[0], v[0], um, vm);
-      else r = FitRotation(ua, va);
+      if (before.size() >= 2)
+        r = FitRotation(u, v);
+      else if (before.size() == 1)
+        r = FitTwist(u[0], v[0], um, vm);
+      else
+        r = FitRotation(ua, va);
       for (size_t k = 0; k < mine.size(); ++k) {
         const Vector3d delta = r * um[k] - vm[k];
         for (int c : m.subtree[mine[k]]) {
@@ -208,7 +219,8 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
     for (size_t c = 0; c < active.size(); ++c) {
       const std::set<int>& js = m.constraint_joints[c];
       const bool inside = std::includes(decided.begin(), decided.end(), js.begin(), js.end());
-      const bool touches = std::any_of(js.begin(), js.end(), [&](int j) { return own.count(j) > 0; });
+      const bool touches =
+          std::any_of(js.begin(), js.end(), [&](int j) { return own.count(j) > 0; });
       if (inside && touches) active[c] = 1.0f, any = true;
     }
     if (!any) continue;
@@ -231,9 +243,9 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
     torch::Tensor x = start.clone().requires_grad_(true);
     torch::optim::Adam adam({x}, torch::optim::AdamOptions(o.step_m));
     for (int step = 1; step <= o.max_steps; ++step) {
-      const torch::Tensor loss = o.angle_weight * (m.narrowed->PerConstraint(x) * mask).sum() +
-                                 (x - start).pow(2).sum() +
-                                 o.bone_weight * (BoneLengths(x, m.bone_child, m.bone_parent) - lengths).pow(2).sum();
+      const torch::Tensor loss =
+          o.angle_weight * (m.narrowed->PerConstraint(x) * mask).sum() + (x - start).pow(2).sum() +
+          o.bone_weight * (BoneLengths(x, m.bone_child, m.bone_parent) - lengths).pow(2).sum();
       adam.zero_grad();
       loss.backward();
       {

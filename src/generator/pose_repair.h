@@ -27,12 +27,12 @@
 namespace motionfork {
 
 struct PoseRepairOptions {
-  double margin_deg = 0.5;   // target: this far inside each range (bounds of 0 / 180 stay)
-  int max_steps = 200;       // Adam steps per part at most
-  int check_every = 5;       // stop once no selected pose breaks a range (checked this often)
-  double step_m = 0.003;     // Adam learning rate, metres
-  double angle_weight = 1e4; // penalty (squared cosine distance past a bound) weight
-  double bone_weight = 100;  // squared bone-length change weight (proximity weight is 1)
+  double margin_deg = 0.5;    // target: this far inside each range (bounds of 0 / 180 stay)
+  int max_steps = 200;        // Adam steps per part at most
+  int check_every = 5;        // stop once no selected pose breaks a range (checked this often)
+  double step_m = 0.003;      // Adam learning rate, metres
+  double angle_weight = 1e4;  // penalty (squared cosine distance past a bound) weight
+  double bone_weight = 100;   // squared bone-length change weight (proximity weight is 1)
 };
 
 struct PoseRepairStats {
@@ -54,7 +54,8 @@ class PoseRepair {
   // poses: float [M, J, 3], root at the origin (root-relative), edited in place; templates: the
   // same shape, each pose's reference layout for the rigid groups (its history's last frame, root
   // at the origin); fixed: one flag per part (PartPlan::FixedMask). No autograd needed.
-  PoseRepairStats Repair(torch::Tensor& poses, const torch::Tensor& templates, const std::vector<bool>& fixed) const;
+  PoseRepairStats Repair(torch::Tensor& poses, const torch::Tensor& templates,
+                         const std::vector<bool>& fixed) const;
 
  private:
   struct Impl;

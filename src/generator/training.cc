@@ -17,8 +17,8 @@ namespace motionfork {
 
 namespace fs = std::filesystem;
 
-void RetargetFuture(const float* future, const float* reference, const std::vector<int64_t>& parents,
-                    int frames, int nodes, float* out) {
+void RetargetFuture(const float* future, const float* reference,
+                    const std::vector<int64_t>& parents, int frames, int nodes, float* out) {
   auto vec = [](const float* pose, const std::vector<int64_t>& par, int n, float v[3]) {
     const float* p = pose + 3 * n;
     const float zero[3] = {0, 0, 0};
@@ -51,21 +51,24 @@ namespace {
 double LearningRate(const TrainingOptions& t, int epoch) {
   if (epoch < t.lr_constant_epochs) return t.learning_rate;
   const int decay = t.epochs - t.lr_constant_epochs;
-  return t.learning_rate * (1.0 - static_cast<double>(epoch - t.lr_constant_epochs) / std::max(1, decay));
+  return t.learning_rate *
+         (1.0 - static_cast<double>(epoch - t.lr_constant_epochs) / std::max(1, decay));
 }
 
 }  // namespace
 
 TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfig& model,
                             const TrainingWindows& data, const std::string& out_dir,
-                            const LossHooks& hooks, const TrainCallbacks& cb, int stop_after_epochs) {
+                            const LossHooks& hooks, const TrainCallbacks& cb,
+                            int stop_after_epochs) {
   const TrainingOptions& t = config.training;
   PinThreads(t.threads);
   torch::manual_seed(t.seed);
   const Skeleton skeleton = Skeleton::Build(model.skeleton);
   const PartPlan plan = MakePartPlan(skeleton, model.generator.partition);
   if (static_cast<int>(t.samples_per_part.size()) != plan.num_parts()) {
-    throw std::invalid_argument("training: samples_per_part has " + std::to_string(t.samples_per_part.size()) +
+    throw std::invalid_argument("training: samples_per_part has " +
+                                std::to_string(t.samples_per_part.size()) +
                                 " entries, the partition '" + plan.partition + "' has " +
                                 std::to_string(plan.num_parts()) + " parts");
   }
@@ -77,7 +80,9 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   TrainSummary summary;
   summary.first_epoch = LoadCheckpoint(ckpt.string(), "generator.pt", *net, adam);
   if (summary.first_epoch > 0) {
-    if (cb.message) cb.message("resuming from " + ckpt.string() + " at epoch " + std::to_string(summary.first_epoch + 1));
+    if (cb.message)
+      cb.message("resuming from " + ckpt.string() + " at epoch " +
+                 std::to_string(summary.first_epoch + 1));
   }
 
   const int N = data.num_nodes, T = data.num_frames(), Bh = t.batch_histories;
@@ -94,7 +99,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
     const auto epoch_start = std::chrono::steady_clock::now();
     const double lr = LearningRate(t, epoch);
-    for (auto& group : adam.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+    for (auto& group : adam.param_groups())
+      static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
     net->train();
     std::mt19937_64 rng(t.seed * 1000003ull + epoch);
     at::Generator gen = MakeGenerator(t.seed * 7919ull + epoch);
@@ -112,17 +118,25 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         const auto& mm = data.multimodal[w];
         for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
           data.Gather(mm[m], other.data());
-          RetargetFuture(other.data() + static_cast<size_t>(data.t_his) * N * 3,
-                         dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
-                         pseudo.data_ptr<float>() + (static_cast<size_t>(b) * M + m) * data.t_pred * N * 3);
+          RetargetFuture(
+              other.data() + static_cast<size_t>(data.t_his) * N * 3,
+              dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
+              pseudo.data_ptr<float>() + (static_cast<size_t>(b) * M + m) * data.t_pred * N * 3);
           mask[b][m] = 1.0f;
         }
       }
       const auto z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);
-      LossBatch batch{net->ForwardNested(truth.slice(1, 0, data.t_his), z, t.samples_per_part), truth, pseudo, mask,
-                      t.samples_per_part, plan.nodes, node_parents, data.t_his};
+      LossBatch batch{net->ForwardNested(truth.slice(1, 0, data.t_his), z, t.samples_per_part),
+                      truth,
+                      pseudo,
+                      mask,
+                      t.samples_per_part,
+                      plan.nodes,
+                      node_parents,
+                      data.t_his};
       const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
-      const LossTerms terms = ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);
+      const LossTerms terms =
+          ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);
       adam.zero_grad();
       terms.total.backward();
       torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
@@ -132,7 +146,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         for (const auto& [name, v] : terms.terms) sums.emplace_back(name, 0.0);
       }
       sums[0].second += terms.total.item<double>();
-      for (size_t k = 0; k < terms.terms.size(); ++k) sums[k + 1].second += terms.terms[k].second.item<double>();
+      for (size_t k = 0; k < terms.terms.size(); ++k)
+        sums[k + 1].second += terms.terms[k].second.item<double>();
       if (cb.step) {
         std::vector<std::pair<std::string, double>> means = sums;
         for (auto& m : means) m.second /= (it + 1);
@@ -140,7 +155,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       }
     }
     for (auto& s : sums) s.second /= iterations;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
     if (new_log && epoch == summary.first_epoch) {
       csv << "epoch,lr,seconds";
       for (const auto& s : sums) csv << "," << s.first;

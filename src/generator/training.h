@@ -19,9 +19,12 @@ namespace motionfork {
 
 struct TrainCallbacks {
   // After every step: epoch (0-based), fraction of the epoch done, running mean of each term.
-  std::function<void(int epoch, double fraction, const std::vector<std::pair<std::string, double>>&)> step;
+  std::function<void(int epoch, double fraction,
+                     const std::vector<std::pair<std::string, double>>&)>
+      step;
   // After every epoch: its mean terms and wall time.
-  std::function<void(int epoch, const std::vector<std::pair<std::string, double>>&, double seconds)> epoch;
+  std::function<void(int epoch, const std::vector<std::pair<std::string, double>>&, double seconds)>
+      epoch;
   std::function<void(const std::string&)> message;
 };
 
@@ -40,8 +43,9 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                             int stop_after_epochs = 0);
 
 // Re-targets a future [t_pred, N, 3] to the bone lengths of `reference` [N, 3], keeping its limb
-// directions (root-relative poses, root at the origin; node_parents -1 = root). Output [t_pred, N, 3].
-void RetargetFuture(const float* future, const float* reference, const std::vector<int64_t>& node_parents,
-                    int frames, int nodes, float* out);
+// directions (root-relative poses, root at the origin; node_parents -1 = root). Output [t_pred, N,
+// 3].
+void RetargetFuture(const float* future, const float* reference,
+                    const std::vector<int64_t>& node_parents, int frames, int nodes, float* out);
 
 }  // namespace motionfork

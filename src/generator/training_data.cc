@@ -1,7 +1,6 @@
 #include "generator/training_data.h"
 
 #include <Eigen/Core>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -19,7 +18,8 @@ namespace fs = std::filesystem;
 void TrainingWindows::Gather(int w, float* out) const {
   const Window& win = windows.at(w);
   const size_t frame = static_cast<size_t>(num_nodes) * 3;
-  std::memcpy(out, clip_poses[win.clip].data() + win.start * frame, num_frames() * frame * sizeof(float));
+  std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
+              num_frames() * frame * sizeof(float));
 }
 
 namespace {
@@ -28,7 +28,8 @@ namespace {
 float MeanJointDistance(const float* a, const float* b, int nodes) {
   float sum = 0;
   for (int j = 0; j < nodes; ++j) {
-    const float dx = a[3 * j] - b[3 * j], dy = a[3 * j + 1] - b[3 * j + 1], dz = a[3 * j + 2] - b[3 * j + 2];
+    const float dx = a[3 * j] - b[3 * j], dy = a[3 * j + 1] - b[3 * j + 1],
+                dz = a[3 * j + 2] - b[3 * j + 2];
     sum += std::sqrt(dx * dx + dy * dy + dz * dz);
   }
   return sum / nodes;
@@ -70,7 +71,8 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
         const float dist = MeanJointDistance(a_last, b_last, N);
         if (dist > o.last_pose_threshold) continue;
         float fut = 0;
-        for (int t = 0; t < tw.t_pred; ++t) fut += MeanJointDistance(a_fut + t * frame, b_last + (t + 1) * frame, N);
+        for (int t = 0; t < tw.t_pred; ++t)
+          fut += MeanJointDistance(a_fut + t * frame, b_last + (t + 1) * frame, N);
         if (fut / tw.t_pred < o.future_min_distance) continue;
         cand.emplace_back(dist, v);
       }
@@ -93,24 +95,27 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   tw.t_pred = dataset.protocol.t_pred;
   tw.num_nodes = dataset.skeleton.skeleton->num_joints() - 1;
   const std::vector<int> train = dataset.ClipIndices(Split::kTrain);
-  if (train.empty()) throw std::invalid_argument("training: the protocol's training split is empty");
+  if (train.empty())
+    throw std::invalid_argument("training: the protocol's training split is empty");
   std::ostringstream key;
-  key << "mm1|" << dataset.protocol.name << "|" << stride << "|" << options.last_pose_threshold << "|"
-      << options.future_min_distance << "|" << options.max_per_window;
+  key << "mm1|" << dataset.protocol.name << "|" << stride << "|" << options.last_pose_threshold
+      << "|" << options.future_min_distance << "|" << options.max_per_window;
   for (int c : train) {
     const Clip& clip = dataset.clips[c];
     tw.clip_poses.push_back(PoseVectorsWithoutRoot(clip.motion));
     key << "|" << clip.name << ":" << clip.motion.num_frames();
   }
-  tw.windows = SlidingWindows(dataset.ClipFrames(train), tw.num_frames(), stride, /*include_last=*/true);
+  tw.windows =
+      SlidingWindows(dataset.ClipFrames(train), tw.num_frames(), stride, /*include_last=*/true);
   if (tw.windows.empty()) {
-    throw std::invalid_argument("training: no training clip has the " + std::to_string(tw.num_frames()) +
-                                " frames one window needs");
+    throw std::invalid_argument("training: no training clip has the " +
+                                std::to_string(tw.num_frames()) + " frames one window needs");
   }
   uint64_t h = Fnv1a64(key.str());
   // Content matters too: hash a sample of the poses.
   for (const auto& p : tw.clip_poses) {
-    std::string bytes(reinterpret_cast<const char*>(p.data()), std::min<size_t>(p.size(), 64) * sizeof(float));
+    std::string bytes(reinterpret_cast<const char*>(p.data()),
+                      std::min<size_t>(p.size(), 64) * sizeof(float));
     h = Fnv1a64(bytes, h);
   }
   char name[64];
@@ -120,7 +125,8 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
     const std::string bytes = ReadFileBytes(cache);
     size_t pos = 0;
     auto get = [&](void* dst, size_t n) {
-      if (pos + n > bytes.size()) throw FormatError(FormatMessage(cache, "", "truncated cache; delete it"));
+      if (pos + n > bytes.size())
+        throw FormatError(FormatMessage(cache, "", "truncated cache; delete it"));
       std::memcpy(dst, bytes.data() + pos, n);
       pos += n;
     };

@@ -20,8 +20,8 @@ namespace motionfork {
 
 struct TrainingWindows {
   int t_his = 0, t_pred = 0, num_nodes = 0;
-  std::vector<std::vector<float>> clip_poses;  // per clip [T_c, N, 3], root-relative, no root
-  std::vector<Window> windows;                 // (clip, start)
+  std::vector<std::vector<float>> clip_poses;    // per clip [T_c, N, 3], root-relative, no root
+  std::vector<Window> windows;                   // (clip, start)
   std::vector<std::vector<int32_t>> multimodal;  // per window: indices of pseudo futures
 
   int num_frames() const { return t_his + t_pred; }

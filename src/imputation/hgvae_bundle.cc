@@ -11,7 +11,9 @@ namespace motionfork {
 
 namespace fs = std::filesystem;
 
-int HgvaeCoords(const HgvaeManifest& m) { return 3 * (static_cast<int>(m.skeleton.joint_names.size()) - 1); }
+int HgvaeCoords(const HgvaeManifest& m) {
+  return 3 * (static_cast<int>(m.skeleton.joint_names.size()) - 1);
+}
 
 HgvaeNet BuildHgvaeNet(const HgvaeManifest& m) {
   return HgvaeNet(m.model, HgvaeCoords(m), m.model.window, static_cast<int64_t>(m.classes.size()));
@@ -27,10 +29,12 @@ void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& n
 
 HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m) {
   const fs::path yaml = fs::path(dir) / "hgvae.yaml", weights = fs::path(dir) / "hgvae.pt";
-  if (!fs::is_directory(dir)) throw FormatError(FormatMessage(dir, "", "HG-VAE bundle folder not found"));
+  if (!fs::is_directory(dir))
+    throw FormatError(FormatMessage(dir, "", "HG-VAE bundle folder not found"));
   for (const fs::path& f : {yaml, weights}) {
     if (!fs::is_regular_file(f)) {
-      throw FormatError(FormatMessage(f.string(), "", "missing from the HG-VAE bundle (expected hgvae.yaml and hgvae.pt)"));
+      throw FormatError(FormatMessage(
+          f.string(), "", "missing from the HG-VAE bundle (expected hgvae.yaml and hgvae.pt)"));
     }
   }
   *m = LoadHgvaeManifest(yaml.string());
@@ -40,9 +44,11 @@ HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m) {
     std::istringstream in(ReadFileBytes(weights.string()));
     torch::load(net, in);
   } catch (const c10::Error& e) {
-    throw FormatError(FormatMessage(weights.string(), "",
-                                    "cannot load the weights (corrupt, or from a model with other sizes than "
-                                    "hgvae.yaml says): " + std::string(e.what_without_backtrace())));
+    throw FormatError(
+        FormatMessage(weights.string(), "",
+                      "cannot load the weights (corrupt, or from a model with other sizes than "
+                      "hgvae.yaml says): " +
+                          std::string(e.what_without_backtrace())));
   }
   net->eval();
   return net;

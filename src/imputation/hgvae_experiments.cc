@@ -9,7 +9,8 @@
 
 namespace motionfork {
 
-std::vector<ImputationFigure> ImputationExperiment(const HgvaeModel& model, const std::vector<float>& windows,
+std::vector<ImputationFigure> ImputationExperiment(const HgvaeModel& model,
+                                                   const std::vector<float>& windows,
                                                    const std::vector<Occlusion>& settings,
                                                    const ImputeOptions& options, uint64_t seed,
                                                    const std::function<void(int, int)>& progress) {
@@ -48,7 +49,8 @@ std::vector<ImputationFigure> ImputationExperiment(const HgvaeModel& model, cons
 }
 
 double Auroc(const std::vector<double>& clean, const std::vector<double>& degraded) {
-  if (clean.empty() || degraded.empty()) throw std::invalid_argument("Auroc: expected scores in both groups");
+  if (clean.empty() || degraded.empty())
+    throw std::invalid_argument("Auroc: expected scores in both groups");
   // Rank-sum (Mann-Whitney U) with ties counted one half.
   std::vector<std::pair<double, int>> all;
   for (double c : clean) all.emplace_back(c, 1);
@@ -68,14 +70,15 @@ double Auroc(const std::vector<double>& clean, const std::vector<double>& degrad
   return (rank_sum - n1 * (n1 + 1) / 2) / (n1 * n0);
 }
 
-std::vector<float> ReplaceWithMean(const HgvaeModel& model, const std::vector<float>& windows, double share,
-                                   uint64_t seed) {
+std::vector<float> ReplaceWithMean(const HgvaeModel& model, const std::vector<float>& windows,
+                                   double share, uint64_t seed) {
   const int values = model.window() * model.coords();
   const int count = static_cast<int>(windows.size() / values);
   return model.MeanImpute(windows, RandomOcclusion(count, values, share, seed));
 }
 
-std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows, float factor) {
+std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows,
+                              float factor) {
   const int J = skeleton.num_joints(), N = 3 * (J - 1);
   std::vector<float> out(windows.size());
   const size_t poses = windows.size() / N;
@@ -101,7 +104,8 @@ std::vector<float> ShuffleFrames(const std::vector<float>& windows, int coords, 
   std::vector<float> out(windows.size());
   for (size_t p = 0; p < poses; ++p) {
     const size_t q = pick(rng);
-    std::copy(windows.begin() + q * coords, windows.begin() + (q + 1) * coords, out.begin() + p * coords);
+    std::copy(windows.begin() + q * coords, windows.begin() + (q + 1) * coords,
+              out.begin() + p * coords);
   }
   return out;
 }

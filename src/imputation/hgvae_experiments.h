@@ -22,18 +22,18 @@ struct Occlusion {
 struct ImputationFigure {
   Occlusion occlusion;
   int64_t missing_values = 0;
-  double mse_mean = 0;   // mean imputation, m^2 per missing value
-  double mse_model = 0;  // HG-VAE imputation
-  double reduction = 0;  // 1 - mse_model / mse_mean
+  double mse_mean = 0;                       // mean imputation, m^2 per missing value
+  double mse_model = 0;                      // HG-VAE imputation
+  double reduction = 0;                      // 1 - mse_model / mse_mean
   double score_before = 0, score_after = 0;  // mean posterior score (mean-filled, imputed)
 };
 
 // windows [count, T, N]. Each setting's mask is drawn from `seed` (the same for every model).
 // progress(done, total) after each setting.
-std::vector<ImputationFigure> ImputationExperiment(const HgvaeModel& model, const std::vector<float>& windows,
-                                                   const std::vector<Occlusion>& settings,
-                                                   const ImputeOptions& options, uint64_t seed,
-                                                   const std::function<void(int, int)>& progress = nullptr);
+std::vector<ImputationFigure> ImputationExperiment(
+    const HgvaeModel& model, const std::vector<float>& windows,
+    const std::vector<Occlusion>& settings, const ImputeOptions& options, uint64_t seed,
+    const std::function<void(int, int)>& progress = nullptr);
 
 // Area under the ROC curve of "a is more typical than b" (ties count one half): the probability
 // that a random clean score exceeds a random degraded one.
@@ -41,10 +41,11 @@ double Auroc(const std::vector<double>& clean, const std::vector<double>& degrad
 
 // Degradations for out-of-distribution tests, windows [count, T, N] -> same layout.
 // A share of values replaced by the model's training mean.
-std::vector<float> ReplaceWithMean(const HgvaeModel& model, const std::vector<float>& windows, double share,
-                                   uint64_t seed);
+std::vector<float> ReplaceWithMean(const HgvaeModel& model, const std::vector<float>& windows,
+                                   double share, uint64_t seed);
 // Impossible bodies: every bone scaled by `factor` (root-relative, through the skeleton's parents).
-std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows, float factor);
+std::vector<float> ScaleBones(const Skeleton& skeleton, const std::vector<float>& windows,
+                              float factor);
 // Impossible motion: each frame replaced by a frame of another random window (teleporting poses).
 std::vector<float> ShuffleFrames(const std::vector<float>& windows, int coords, uint64_t seed);
 

@@ -34,15 +34,17 @@ struct HgvaeModel::Impl {
   int64_t CheckWindows(const std::vector<float>& w, const char* what) const {
     const size_t per = static_cast<size_t>(T() * N());
     if (w.empty() || w.size() % per != 0) {
-      throw std::invalid_argument(std::string(what) + ": expected windows of " + std::to_string(T()) + " frames x " +
-                                  std::to_string(N()) + " coordinates (a multiple of " + std::to_string(per) +
+      throw std::invalid_argument(std::string(what) + ": expected windows of " +
+                                  std::to_string(T()) + " frames x " + std::to_string(N()) +
+                                  " coordinates (a multiple of " + std::to_string(per) +
                                   " values), got " + std::to_string(w.size()) + " values");
     }
     return static_cast<int64_t>(w.size() / per);
   }
 
   // Per window [B]: the imputation objective `objective` and the bundle's OoD score.
-  std::pair<torch::Tensor, torch::Tensor> Objective(const torch::Tensor& x, const torch::Tensor& labels,
+  std::pair<torch::Tensor, torch::Tensor> Objective(const torch::Tensor& x,
+                                                    const torch::Tensor& labels,
                                                     ImputeObjective objective) const {
     const HgvaeOutput o = net->forward(x, labels, LatentMode::kPosteriorMean);
     const torch::Tensor first = net->Score(x, o, objective);
@@ -108,10 +110,12 @@ std::vector<double> HgvaeModel::Score(const std::vector<float>& windows, ImputeO
   return out;
 }
 
-std::vector<float> HgvaeModel::MeanImpute(const std::vector<float>& windows, const std::vector<uint8_t>& missing) const {
+std::vector<float> HgvaeModel::MeanImpute(const std::vector<float>& windows,
+                                          const std::vector<uint8_t>& missing) const {
   const Impl& im = *impl_;
   im.CheckWindows(windows, "MeanImpute");
-  if (missing.size() != windows.size()) throw std::invalid_argument("MeanImpute: mask and windows differ in size");
+  if (missing.size() != windows.size())
+    throw std::invalid_argument("MeanImpute: mask and windows differ in size");
   std::vector<float> out = windows;
   for (size_t i = 0; i < out.size(); ++i) {
     if (missing[i]) out[i] = static_cast<float>(im.manifest.mean[i % im.N()]);
@@ -119,13 +123,14 @@ std::vector<float> HgvaeModel::MeanImpute(const std::vector<float>& windows, con
   return out;
 }
 
-ImputeResult HgvaeModel::Impute(const std::vector<float>& windows, const std::vector<uint8_t>& missing,
-                                const ImputeOptions& options, int class_index) const {
+ImputeResult HgvaeModel::Impute(const std::vector<float>& windows,
+                                const std::vector<uint8_t>& missing, const ImputeOptions& options,
+                                int class_index) const {
   const Impl& im = *impl_;
   const int64_t count = im.CheckWindows(windows, "Impute");
   if (missing.size() != windows.size()) {
-    throw std::invalid_argument("Impute: the mask has " + std::to_string(missing.size()) + " values, the windows " +
-                                std::to_string(windows.size()));
+    throw std::invalid_argument("Impute: the mask has " + std::to_string(missing.size()) +
+                                " values, the windows " + std::to_string(windows.size()));
   }
   const size_t per = static_cast<size_t>(im.T() * im.N());
   for (int64_t w = 0; w < count; ++w) {
@@ -141,7 +146,8 @@ ImputeResult HgvaeModel::Impute(const std::vector<float>& windows, const std::ve
     const int64_t n = std::min(kChunk, count - s);
     const torch::Tensor mask = im.tensors->MaskToNodeMajor(missing.data() + s * per, n);
     const torch::Tensor raw = im.tensors->ToNodeMajor(windows.data() + s * per, n);
-    const torch::Tensor x0 = torch::where(mask > 0, torch::zeros_like(raw), raw);  // missing -> mean (0)
+    const torch::Tensor x0 =
+        torch::where(mask > 0, torch::zeros_like(raw), raw);  // missing -> mean (0)
     const torch::Tensor labels = im.Labels(class_index, n);
     torch::Tensor v = torch::zeros_like(x0).requires_grad_(true);
     torch::optim::Adam adam({v}, torch::optim::AdamOptions(options.learning_rate));
@@ -196,26 +202,30 @@ HgvaeWindowFigures HgvaeModel::Evaluate(const std::vector<float>& windows, uint6
     const torch::Tensor x = im.tensors->ToNodeMajor(windows.data() + s * im.T() * im.N(), n);
     const HgvaeOutput o = im.net->forward(x, {}, LatentMode::kSample, gen);
     append(f.elbo, HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl - im.log_det);
-    append(f.recon_mse_sampled, im.tensors->SquaredErrorMetres(x, o.x_mean).mean(std::vector<int64_t>{0, 2}));
+    append(f.recon_mse_sampled,
+           im.tensors->SquaredErrorMetres(x, o.x_mean).mean(std::vector<int64_t>{0, 2}));
     for (int64_t l = 0; l < im.net->num_levels(); ++l) append(f.kl_levels[l], o.kl_levels[l]);
     const HgvaeOutput om = im.net->forward(x, {}, LatentMode::kPosteriorMean);
     append(f.score, im.net->Score(x, om, ImputeObjective::kPosterior));
     append(f.joint_score, im.net->Score(x, om, ImputeObjective::kJoint));
-    append(f.recon_mse, im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
+    append(f.recon_mse,
+           im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
   }
   return f;
 }
 
-std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed, bool sample_latents) const {
+std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed,
+                                      bool sample_latents) const {
   const Impl& im = *impl_;
-  if (count < 1) throw std::invalid_argument("Sample: expected a count >= 1, got " + std::to_string(count));
+  if (count < 1)
+    throw std::invalid_argument("Sample: expected a count >= 1, got " + std::to_string(count));
   torch::NoGradGuard no_grad;
   at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(seed);
   std::vector<float> out;
   for (int64_t s = 0; s < count; s += kChunk) {
     const int64_t n = std::min<int64_t>(kChunk, count - s);
-    const std::vector<float> w =
-        im.tensors->FromNodeMajor(im.net->Generate(n, im.Labels(class_index, n), sample_latents, gen));
+    const std::vector<float> w = im.tensors->FromNodeMajor(
+        im.net->Generate(n, im.Labels(class_index, n), sample_latents, gen));
     out.insert(out.end(), w.begin(), w.end());
   }
   return out;

@@ -18,18 +18,19 @@
 namespace motionfork {
 
 struct ImputeResult {
-  std::vector<float> windows;         // [count, T, N], observed values unchanged
-  std::vector<double> score_before;   // the bundle's OoD score with the missing values at the mean
-  std::vector<double> score_after;    // at the chosen step
-  std::vector<int> best_step;         // 0 = the mean start was best
+  std::vector<float> windows;        // [count, T, N], observed values unchanged
+  std::vector<double> score_before;  // the bundle's OoD score with the missing values at the mean
+  std::vector<double> score_after;   // at the chosen step
+  std::vector<int> best_step;        // 0 = the mean start was best
 };
 
 struct HgvaeWindowFigures {
-  std::vector<double> elbo;        // evidence lower bound, nats per window (density in metres)
-  std::vector<double> score;       // posterior score (the paper's p(z|x))
-  std::vector<double> joint_score; // posterior score + log p(x | posterior means)
-  std::vector<double> recon_mse;   // squared error of the reconstruction (posterior means), m^2 per value
-  std::vector<double> recon_mse_sampled;  // the same with latents sampled from the posterior
+  std::vector<double> elbo;         // evidence lower bound, nats per window (density in metres)
+  std::vector<double> score;        // posterior score (the paper's p(z|x))
+  std::vector<double> joint_score;  // posterior score + log p(x | posterior means)
+  std::vector<double>
+      recon_mse;  // squared error of the reconstruction (posterior means), m^2 per value
+  std::vector<double> recon_mse_sampled;       // the same with latents sampled from the posterior
   std::vector<std::vector<double>> kl_levels;  // [level][window], nats
 };
 
@@ -50,7 +51,8 @@ class HgvaeModel {
   // typical). class_index -1 = none.
   std::vector<double> Score(const std::vector<float>& windows, int class_index = -1) const;
   // Either score, whatever the bundle's.
-  std::vector<double> Score(const std::vector<float>& windows, ImputeObjective score, int class_index = -1) const;
+  std::vector<double> Score(const std::vector<float>& windows, ImputeObjective score,
+                            int class_index = -1) const;
   double OodThreshold() const;  // score_mean - k * score_std
   bool OutOfDistribution(double score) const { return score < OodThreshold(); }
 
@@ -60,14 +62,16 @@ class HgvaeModel {
   ImputeResult Impute(const std::vector<float>& windows, const std::vector<uint8_t>& missing,
                       const ImputeOptions& options, int class_index = -1) const;
   // Mean imputation (the baseline): missing values -> training mean.
-  std::vector<float> MeanImpute(const std::vector<float>& windows, const std::vector<uint8_t>& missing) const;
+  std::vector<float> MeanImpute(const std::vector<float>& windows,
+                                const std::vector<uint8_t>& missing) const;
 
   // ELBO (one posterior sample from `seed`), score, reconstruction error, KL per level.
   HgvaeWindowFigures Evaluate(const std::vector<float>& windows, uint64_t seed = 0) const;
 
   // count windows [count, T, N] from the prior (class_index -1 = no class); sample_latents false
   // takes each level's prior mean.
-  std::vector<float> Sample(int count, int class_index, uint64_t seed, bool sample_latents = true) const;
+  std::vector<float> Sample(int count, int class_index, uint64_t seed,
+                            bool sample_latents = true) const;
 
  private:
   struct Impl;

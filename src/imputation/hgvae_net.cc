@@ -31,9 +31,12 @@ HgvaeGraphConvImpl::HgvaeGraphConvImpl(int64_t in_nodes, int64_t out_nodes, int6
                                        int64_t out_features) {
   // As the released code (and LTD): uniform(-1/sqrt(out_features), +) for every parameter.
   const double stdv = 1.0 / std::sqrt(static_cast<double>(out_features));
-  adjacency = register_parameter("adjacency", torch::empty({out_nodes, in_nodes}).uniform_(-stdv, stdv));
-  weight = register_parameter("weight", torch::empty({in_features, out_features}).uniform_(-stdv, stdv));
-  bias = register_parameter("bias", torch::empty({out_nodes, 1, out_features}).uniform_(-stdv, stdv));
+  adjacency =
+      register_parameter("adjacency", torch::empty({out_nodes, in_nodes}).uniform_(-stdv, stdv));
+  weight =
+      register_parameter("weight", torch::empty({in_features, out_features}).uniform_(-stdv, stdv));
+  bias =
+      register_parameter("bias", torch::empty({out_nodes, 1, out_features}).uniform_(-stdv, stdv));
 }
 
 torch::Tensor HgvaeGraphConvImpl::forward(const torch::Tensor& x) {
@@ -60,12 +63,14 @@ torch::Tensor HgvaeBlockImpl::forward(const torch::Tensor& x) {
   return x + alpha * torch::gelu(second(torch::gelu(first(x))));
 }
 
-HgvaeNetImpl::HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int64_t frames, int64_t classes)
+HgvaeNetImpl::HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int64_t frames,
+                           int64_t classes)
     : options_(options), num_coords_(num_coords), frames_(frames), classes_(classes) {
   const int64_t L = num_levels(), W = options.width;
   auto nodes = [&](int64_t l) -> int64_t { return options_.levels[l].nodes; };
   auto feats = [&](int64_t l) -> int64_t { return options_.levels[l].features; };
-  TORCH_CHECK(nodes(L - 1) == num_coords, "HgvaeNet: the bottom level must have every coordinate as a node");
+  TORCH_CHECK(nodes(L - 1) == num_coords,
+              "HgvaeNet: the bottom level must have every coordinate as a node");
   const Eigen::MatrixXd d = DctMatrix(static_cast<int>(frames));
   dct_ = torch::empty({frames, frames});
   for (int64_t i = 0; i < frames; ++i)
@@ -77,7 +82,8 @@ HgvaeNetImpl::HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int6
     for (int b = 0; b < count; ++b) s->push_back(HgvaeBlock(n, f));
     return s;
   };
-  enc_input = register_module("enc_input", HgvaeGraphConv(num_coords, num_coords, frames, feats(L - 1)));
+  enc_input =
+      register_module("enc_input", HgvaeGraphConv(num_coords, num_coords, frames, feats(L - 1)));
   enc_contract.assign(L, HgvaeGraphConv(nullptr));
   dec_expand.assign(L, HgvaeGraphConv(nullptr));
   prior_head.assign(L, HgvaeGraphConv(nullptr));
@@ -87,24 +93,33 @@ HgvaeNetImpl::HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int6
   dec_blocks.assign(L, torch::nn::Sequential(nullptr));
   for (int64_t l = 0; l < L; ++l) {
     const std::string s = std::to_string(l);
-    enc_blocks[l] = register_module("enc_blocks" + s, blocks(options.encoder_blocks, nodes(l), feats(l)));
+    enc_blocks[l] =
+        register_module("enc_blocks" + s, blocks(options.encoder_blocks, nodes(l), feats(l)));
     if (l < L - 1) {
-      enc_contract[l] = register_module("enc_contract" + s, HgvaeGraphConv(nodes(l + 1), nodes(l), feats(l + 1), feats(l)));
+      enc_contract[l] = register_module(
+          "enc_contract" + s, HgvaeGraphConv(nodes(l + 1), nodes(l), feats(l + 1), feats(l)));
     }
     if (l == 0) {
-      dec_top = register_module("dec_top", HgvaeGraphConv(nodes(0), nodes(0), feats(0) + classes, W));
-      post_head[0] = register_module("post_head0", HgvaeGraphConv(nodes(0), nodes(0), feats(0), 2 * feats(0)));
+      dec_top =
+          register_module("dec_top", HgvaeGraphConv(nodes(0), nodes(0), feats(0) + classes, W));
+      post_head[0] =
+          register_module("post_head0", HgvaeGraphConv(nodes(0), nodes(0), feats(0), 2 * feats(0)));
     } else {
-      dec_expand[l] = register_module("dec_expand" + s, HgvaeGraphConv(nodes(l - 1), nodes(l), W, W));
-      prior_head[l] = register_module("prior_head" + s, HgvaeGraphConv(nodes(l), nodes(l), W, 2 * feats(l)));
-      post_head[l] = register_module("post_head" + s, HgvaeGraphConv(nodes(l), nodes(l), W + feats(l), 2 * feats(l)));
+      dec_expand[l] =
+          register_module("dec_expand" + s, HgvaeGraphConv(nodes(l - 1), nodes(l), W, W));
+      prior_head[l] =
+          register_module("prior_head" + s, HgvaeGraphConv(nodes(l), nodes(l), W, 2 * feats(l)));
+      post_head[l] = register_module(
+          "post_head" + s, HgvaeGraphConv(nodes(l), nodes(l), W + feats(l), 2 * feats(l)));
       z_in[l] = register_module("z_in" + s, HgvaeGraphConv(nodes(l), nodes(l), feats(l), W));
     }
     dec_blocks[l] = register_module("dec_blocks" + s, blocks(options.decoder_blocks, nodes(l), W));
   }
-  out_head = register_module("out_head", HgvaeGraphConv(num_coords, num_coords, W,
-                                                        options.predicted_variance ? 2 * frames : frames));
-  if (!options.predicted_variance) out_logvar = register_parameter("out_logvar", torch::zeros({num_coords, 1, frames}));
+  out_head = register_module(
+      "out_head",
+      HgvaeGraphConv(num_coords, num_coords, W, options.predicted_variance ? 2 * frames : frames));
+  if (!options.predicted_variance)
+    out_logvar = register_parameter("out_logvar", torch::zeros({num_coords, 1, frames}));
 }
 
 bool HgvaeNetImpl::stochastic(int64_t level) const {
@@ -116,9 +131,10 @@ torch::Tensor HgvaeNetImpl::GaussianLogLik(const torch::Tensor& x, const torch::
   return SumPerWindow(-0.5 * (kLog2Pi + logvar + (x - mean).pow(2) * (-logvar).exp()));
 }
 
-torch::Tensor HgvaeNetImpl::TopDown(const std::vector<torch::Tensor>* encoded, const torch::Tensor& labels,
-                                    int64_t batch, LatentMode mode, bool from_prior,
-                                    c10::optional<at::Generator> gen, HgvaeOutput* out) {
+torch::Tensor HgvaeNetImpl::TopDown(const std::vector<torch::Tensor>* encoded,
+                                    const torch::Tensor& labels, int64_t batch, LatentMode mode,
+                                    bool from_prior, c10::optional<at::Generator> gen,
+                                    HgvaeOutput* out) {
   const int64_t L = num_levels();
   torch::Tensor path;
   torch::Tensor kl = torch::zeros({batch});
@@ -139,7 +155,8 @@ torch::Tensor HgvaeNetImpl::TopDown(const std::vector<torch::Tensor>* encoded, c
       z = mode == LatentMode::kSample ? pm + (0.5 * plv).exp() * torch::randn(pm.sizes(), gen) : pm;
     } else {
       const torch::Tensor& a = (*encoded)[l];
-      std::tie(qm, qlv) = SplitGaussian(l == 0 ? post_head[0](a) : post_head[l](torch::cat({path, a}, 2)));
+      std::tie(qm, qlv) =
+          SplitGaussian(l == 0 ? post_head[0](a) : post_head[l](torch::cat({path, a}, 2)));
       z = mode == LatentMode::kSample ? qm + (0.5 * qlv).exp() * torch::randn(qm.sizes(), gen) : qm;
       kl_l = GaussianKl(qm, qlv, pm, plv);
       kl = kl + kl_l;
@@ -168,8 +185,8 @@ torch::Tensor HgvaeNetImpl::TopDown(const std::vector<torch::Tensor>* encoded, c
   return path;
 }
 
-HgvaeOutput HgvaeNetImpl::forward(const torch::Tensor& x, const torch::Tensor& labels, LatentMode mode,
-                                  c10::optional<at::Generator> gen) {
+HgvaeOutput HgvaeNetImpl::forward(const torch::Tensor& x, const torch::Tensor& labels,
+                                  LatentMode mode, c10::optional<at::Generator> gen) {
   const int64_t L = num_levels(), B = x.size(1);
   std::vector<torch::Tensor> encoded(L);
   torch::Tensor a = torch::gelu(enc_input(x.matmul(dct_.t())));
@@ -184,11 +201,11 @@ HgvaeOutput HgvaeNetImpl::forward(const torch::Tensor& x, const torch::Tensor& l
   return out;
 }
 
-torch::Tensor HgvaeNetImpl::Generate(int64_t count, const torch::Tensor& labels, bool sample_latents,
-                                     at::Generator gen) {
-  const torch::Tensor path =
-      TopDown(nullptr, labels, count, sample_latents ? LatentMode::kSample : LatentMode::kPosteriorMean, true, gen,
-              nullptr);
+torch::Tensor HgvaeNetImpl::Generate(int64_t count, const torch::Tensor& labels,
+                                     bool sample_latents, at::Generator gen) {
+  const torch::Tensor path = TopDown(
+      nullptr, labels, count, sample_latents ? LatentMode::kSample : LatentMode::kPosteriorMean,
+      true, gen, nullptr);
   return Output(path).first;
 }
 
@@ -210,9 +227,12 @@ torch::Tensor HgvaeNetImpl::PosteriorScore(const HgvaeOutput& out) const {
   return score;
 }
 
-torch::Tensor HgvaeNetImpl::Score(const torch::Tensor& x, const HgvaeOutput& out, ImputeObjective which) const {
+torch::Tensor HgvaeNetImpl::Score(const torch::Tensor& x, const HgvaeOutput& out,
+                                  ImputeObjective which) const {
   const torch::Tensor posterior = PosteriorScore(out);
-  return which == ImputeObjective::kPosterior ? posterior : posterior + GaussianLogLik(x, out.x_mean, out.x_logvar);
+  return which == ImputeObjective::kPosterior
+             ? posterior
+             : posterior + GaussianLogLik(x, out.x_mean, out.x_logvar);
 }
 
 }  // namespace motionfork

@@ -24,7 +24,8 @@ namespace motionfork {
 // GCL without activation: y = S (x W) + b with S [Nout, Nin], W [Fin, Fout], b [Nout, 1, Fout].
 class HgvaeGraphConvImpl : public torch::nn::Module {
  public:
-  HgvaeGraphConvImpl(int64_t in_nodes, int64_t out_nodes, int64_t in_features, int64_t out_features);
+  HgvaeGraphConvImpl(int64_t in_nodes, int64_t out_nodes, int64_t in_features,
+                     int64_t out_features);
   torch::Tensor forward(const torch::Tensor& x);  // [Nin, B, Fin] -> [Nout, B, Fout]
 
   torch::Tensor adjacency, weight, bias;
@@ -49,7 +50,7 @@ TORCH_MODULE(HgvaeBlock);
 struct HgvaeOutput {
   torch::Tensor x_mean, x_logvar;  // [N, B, T] in the time domain (normalised coordinates)
   std::vector<torch::Tensor> prior_mean, prior_logvar, post_mean, post_logvar, z;
-  torch::Tensor kl;                // [B]: sum over the stochastic levels
+  torch::Tensor kl;                      // [B]: sum over the stochastic levels
   std::vector<torch::Tensor> kl_levels;  // per level [B] (zeros for levels that are off)
 };
 
@@ -72,10 +73,12 @@ class HgvaeNetImpl : public torch::nn::Module {
 
   // Decoder only: latents from the prior (sampled with `gen` when sample_latents, else its
   // means), output mean [N, B, T].
-  torch::Tensor Generate(int64_t count, const torch::Tensor& labels, bool sample_latents, at::Generator gen);
+  torch::Tensor Generate(int64_t count, const torch::Tensor& labels, bool sample_latents,
+                         at::Generator gen);
 
   // log N(x | mean, exp(logvar)) summed over nodes and frames, per window [B].
-  static torch::Tensor GaussianLogLik(const torch::Tensor& x, const torch::Tensor& mean, const torch::Tensor& logvar);
+  static torch::Tensor GaussianLogLik(const torch::Tensor& x, const torch::Tensor& mean,
+                                      const torch::Tensor& logvar);
 
   // The paper's posterior score per window [B]: sum over stochastic levels of
   // log N(post_mean_l | prior_mean_l, prior_var_l).
@@ -89,8 +92,9 @@ class HgvaeNetImpl : public torch::nn::Module {
   const torch::Tensor& dct() const { return dct_; }
 
  private:
-  torch::Tensor TopDown(const std::vector<torch::Tensor>* encoded, const torch::Tensor& labels, int64_t batch,
-                        LatentMode mode, bool from_prior, c10::optional<at::Generator> gen, HgvaeOutput* out);
+  torch::Tensor TopDown(const std::vector<torch::Tensor>* encoded, const torch::Tensor& labels,
+                        int64_t batch, LatentMode mode, bool from_prior,
+                        c10::optional<at::Generator> gen, HgvaeOutput* out);
 
   // Path at the full graph -> (mean [N, B, T] in frames, log-variance [N, B, T]).
   std::pair<torch::Tensor, torch::Tensor> Output(const torch::Tensor& path);
@@ -99,14 +103,14 @@ class HgvaeNetImpl : public torch::nn::Module {
   int64_t num_coords_, frames_, classes_;
   torch::Tensor dct_;  // [T, T] orthonormal DCT-II (buffer, not trained)
   HgvaeGraphConv enc_input{nullptr};
-  std::vector<HgvaeGraphConv> enc_contract;      // level l+1 -> l, for l = L-2 .. 0 (index l)
+  std::vector<HgvaeGraphConv> enc_contract;       // level l+1 -> l, for l = L-2 .. 0 (index l)
   std::vector<torch::nn::Sequential> enc_blocks;  // per level
   HgvaeGraphConv dec_top{nullptr};                // z0 (+ one-hot) -> path
   std::vector<HgvaeGraphConv> dec_expand;         // path: level l-1 -> l (index l >= 1)
   std::vector<HgvaeGraphConv> prior_head, post_head, z_in;  // per level (prior_head[0] unused)
-  std::vector<torch::nn::Sequential> dec_blocks;  // per level
-  HgvaeGraphConv out_head{nullptr};               // path -> T means (+ T log-variances if predicted)
-  torch::Tensor out_logvar;                       // [N, 1, T] learned log-variance (not predicted)
+  std::vector<torch::nn::Sequential> dec_blocks;            // per level
+  HgvaeGraphConv out_head{nullptr};  // path -> T means (+ T log-variances if predicted)
+  torch::Tensor out_logvar;          // [N, 1, T] learned log-variance (not predicted)
 };
 TORCH_MODULE(HgvaeNet);
 

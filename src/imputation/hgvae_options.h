@@ -20,12 +20,12 @@ struct HgvaeLevel {
 struct HgvaeOptions {
   // Top (one global node) to bottom (the full graph). Paper: 1x256, 8x128, 24x128, 54x128.
   std::vector<HgvaeLevel> levels = {{1, 256}, {8, 128}, {24, 128}, {0, 128}};
-  int width = 256;              // features of the decoder's deterministic path (paper: 256)
-  int encoder_blocks = 1;       // residual graph-conv blocks (GCB) per level, bottom-up pass
-  int decoder_blocks = 1;       // GCBs per level, top-down pass
-  int stochastic_levels = 0;    // 0 = all; d > 0: only the top d levels sample, the others take
-                                // their prior mean and add no KL (the paper's stochastic depth)
-  int window = 0;               // frames per window; 0 = the protocol's history length (t_his)
+  int width = 256;            // features of the decoder's deterministic path (paper: 256)
+  int encoder_blocks = 1;     // residual graph-conv blocks (GCB) per level, bottom-up pass
+  int decoder_blocks = 1;     // GCBs per level, top-down pass
+  int stochastic_levels = 0;  // 0 = all; d > 0: only the top d levels sample, the others take
+                              // their prior mean and add no KL (the paper's stochastic depth)
+  int window = 0;             // frames per window; 0 = the protocol's history length (t_his)
   // p(x | z) = N(mean, var): false = one learned log-variance per coordinate and frame (shared by
   // all windows, so every value must be explained); true = the decoder predicts it per window
   // (better likelihoods, but it may give up on hard values by widening them).
@@ -50,14 +50,15 @@ struct HgvaeTrainOptions {
 };
 
 enum class ImputeObjective {
-  kPosterior,  // the paper's: sum over levels of log p(mu_q,l | z<l), the posterior means under the prior
+  kPosterior,  // the paper's: sum over levels of log p(mu_q,l | z<l), the posterior means under the
+               // prior
   kJoint,      // the same plus log p(x | z = posterior means): also asks the decoder to explain x
 };
 const char* ToString(ImputeObjective objective);
 
 struct ImputeOptions {
-  int steps = 10;               // Adam steps on the missing values (paper: 10, or 100)
-  double learning_rate = 0.1;   // Adam step on normalised coordinates (one unit = one training std)
+  int steps = 10;              // Adam steps on the missing values (paper: 10, or 100)
+  double learning_rate = 0.1;  // Adam step on normalised coordinates (one unit = one training std)
   ImputeObjective objective = ImputeObjective::kJoint;
 };
 
@@ -94,7 +95,7 @@ struct HgvaeManifest {
   ImputeObjective ood_score = ImputeObjective::kPosterior;  // what score_mean/std describe
   double score_mean = 0, score_std = 0;  // that score on held-out training windows
   double ood_k = 2.0;
-  ImputeOptions impute;              // defaults for `motionfork impute`
+  ImputeOptions impute;                                   // defaults for `motionfork impute`
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

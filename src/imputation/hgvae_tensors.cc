@@ -9,7 +9,8 @@ HgvaeTensors::HgvaeTensors(const HgvaeManifest& m)
 }
 
 torch::Tensor HgvaeTensors::ToNodeMajor(const float* windows, int64_t count) const {
-  const torch::Tensor w = torch::from_blob(const_cast<float*>(windows), {count, frames_, coords_}, torch::kFloat32);
+  const torch::Tensor w =
+      torch::from_blob(const_cast<float*>(windows), {count, frames_, coords_}, torch::kFloat32);
   return ((w.permute({2, 0, 1}) - mean_) / std_).contiguous();
 }
 
@@ -19,11 +20,13 @@ std::vector<float> HgvaeTensors::FromNodeMajor(const torch::Tensor& x) const {
 }
 
 torch::Tensor HgvaeTensors::MaskToNodeMajor(const uint8_t* missing, int64_t count) const {
-  const torch::Tensor m = torch::from_blob(const_cast<uint8_t*>(missing), {count, frames_, coords_}, torch::kUInt8);
+  const torch::Tensor m =
+      torch::from_blob(const_cast<uint8_t*>(missing), {count, frames_, coords_}, torch::kUInt8);
   return m.permute({2, 0, 1}).to(torch::kFloat32).contiguous();
 }
 
-torch::Tensor HgvaeTensors::SquaredErrorMetres(const torch::Tensor& a, const torch::Tensor& b) const {
+torch::Tensor HgvaeTensors::SquaredErrorMetres(const torch::Tensor& a,
+                                               const torch::Tensor& b) const {
   return ((a - b) * std_).pow(2);
 }
 

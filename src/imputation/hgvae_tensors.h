@@ -17,7 +17,7 @@ class HgvaeTensors {
  public:
   explicit HgvaeTensors(const HgvaeManifest& m);
   torch::Tensor ToNodeMajor(const float* windows, int64_t count) const;  // -> [N, B, T]
-  std::vector<float> FromNodeMajor(const torch::Tensor& x) const;       // [N, B, T] -> [B, T, N]
+  std::vector<float> FromNodeMajor(const torch::Tensor& x) const;        // [N, B, T] -> [B, T, N]
   torch::Tensor MaskToNodeMajor(const uint8_t* missing, int64_t count) const;  // 1 = missing
   // Per value squared error in metres^2, [N, B, T].
   torch::Tensor SquaredErrorMetres(const torch::Tensor& a, const torch::Tensor& b) const;

@@ -9,11 +9,11 @@
 #include <set>
 #include <sstream>
 
+#include "config/hgvae_config.h"
 #include "dataset/windows.h"
 #include "imputation/hgvae_bundle.h"
-#include "imputation/hgvae_tensors.h"
-#include "config/hgvae_config.h"
 #include "imputation/hgvae_model.h"
+#include "imputation/hgvae_tensors.h"
 #include "io/file_util.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
@@ -29,8 +29,9 @@ HgvaeData MakeHgvaeData(const Dataset& dataset, const HgvaeTrainOptions& options
     if (dataset.clips[c].motion.num_frames() >= window) clips.push_back(c);
   }
   if (clips.size() < 2) {
-    throw std::invalid_argument("HG-VAE training: expected at least 2 training clips of >= " + std::to_string(window) +
-                                " frames, found " + std::to_string(clips.size()));
+    throw std::invalid_argument(
+        "HG-VAE training: expected at least 2 training clips of >= " + std::to_string(window) +
+        " frames, found " + std::to_string(clips.size()));
   }
   if (options.condition == "action") {
     std::set<std::string> names;
@@ -39,7 +40,8 @@ HgvaeData MakeHgvaeData(const Dataset& dataset, const HgvaeTrainOptions& options
   }
   std::vector<int> order = clips;
   std::shuffle(order.begin(), order.end(), std::mt19937_64(options.seed));
-  const size_t held = std::max<size_t>(1, static_cast<size_t>(std::lround(options.held_out_share * order.size())));
+  const size_t held =
+      std::max<size_t>(1, static_cast<size_t>(std::lround(options.held_out_share * order.size())));
   const std::set<int> held_out(order.begin(), order.begin() + held);
   for (int c : clips) {
     const Clip& clip = dataset.clips[c];
@@ -47,8 +49,9 @@ HgvaeData MakeHgvaeData(const Dataset& dataset, const HgvaeTrainOptions& options
     dst.poses.push_back(PoseVectorsWithoutRoot(clip.motion));
     int label = -1;
     if (!data.classes.empty()) {
-      label = static_cast<int>(std::lower_bound(data.classes.begin(), data.classes.end(), clip.action) -
-                               data.classes.begin());
+      label =
+          static_cast<int>(std::lower_bound(data.classes.begin(), data.classes.end(), clip.action) -
+                           data.classes.begin());
     }
     dst.labels.push_back(label);
   }
@@ -67,7 +70,8 @@ std::vector<float> HeldOutWindows(const HgvaeClips& clips, int window, int coord
   if (static_cast<int>(all.size()) <= limit) {
     picked = all;
   } else {
-    for (int i = 0; i < limit; ++i) picked.push_back(all[static_cast<size_t>(i) * all.size() / limit]);
+    for (int i = 0; i < limit; ++i)
+      picked.push_back(all[static_cast<size_t>(i) * all.size() / limit]);
   }
   std::vector<float> out;
   out.reserve(picked.size() * window * coords);
@@ -117,8 +121,9 @@ double KlWeight(const HgvaeTrainOptions& t, double epoch_progress) {
 
 }  // namespace
 
-HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest& base, const HgvaeData& data,
-                             const std::string& out_dir, const HgvaeTrainCallbacks& cb, int stop_after_epochs) {
+HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest& base,
+                             const HgvaeData& data, const std::string& out_dir,
+                             const HgvaeTrainCallbacks& cb, int stop_after_epochs) {
   const HgvaeTrainOptions& t = config.training;
   PinThreads(t.threads);
   torch::manual_seed(t.seed);
@@ -136,7 +141,9 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   HgvaeTrainSummary summary;
   summary.first_epoch = LoadCheckpoint(ckpt.string(), "hgvae.pt", *net, adam);
   if (summary.first_epoch > 0) {
-    if (cb.message) cb.message("resuming from " + ckpt.string() + " after epoch " + std::to_string(summary.first_epoch));
+    if (cb.message)
+      cb.message("resuming from " + ckpt.string() + " after epoch " +
+                 std::to_string(summary.first_epoch));
   }
   std::vector<int> frames;
   for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
@@ -167,7 +174,8 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
       for (int b = 0; b < B; ++b) {
         const Window w = sampler.Next();
         const float* p = data.train.poses[w.clip].data() + static_cast<size_t>(w.start) * N;
-        std::copy(p, p + static_cast<size_t>(T) * N, batch.begin() + static_cast<size_t>(b) * T * N);
+        std::copy(p, p + static_cast<size_t>(T) * N,
+                  batch.begin() + static_cast<size_t>(b) * T * N);
         if (C > 0 && !drop(rng)) labels[b][data.train.labels[w.clip]] = 1.0f;
       }
       const torch::Tensor x = norm.ToNodeMajor(batch.data(), B);
@@ -181,14 +189,20 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
       torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
       adam.step();
       const double l = loss.item<double>(), n = nll.item<double>(), k = kl.item<double>();
-      if (!std::isfinite(l)) throw std::runtime_error("HG-VAE training: the loss became non-finite at epoch " + std::to_string(epoch + 1));
+      if (!std::isfinite(l))
+        throw std::runtime_error("HG-VAE training: the loss became non-finite at epoch " +
+                                 std::to_string(epoch + 1));
       sum_loss += l;
       sum_nll += n;
       sum_kl += k;
-      for (int64_t lv = 0; lv < net->num_levels(); ++lv) sum_levels[lv] += o.kl_levels[lv].mean().item<double>();
-      if (cb.step) cb.step(epoch, double(it + 1) / iterations, sum_loss / (it + 1), sum_nll / (it + 1), sum_kl / (it + 1));
+      for (int64_t lv = 0; lv < net->num_levels(); ++lv)
+        sum_levels[lv] += o.kl_levels[lv].mean().item<double>();
+      if (cb.step)
+        cb.step(epoch, double(it + 1) / iterations, sum_loss / (it + 1), sum_nll / (it + 1),
+                sum_kl / (it + 1));
     }
-    // Held-out figures: ELBO (one posterior sample, fixed seed), reconstruction MSE, posterior score.
+    // Held-out figures: ELBO (one posterior sample, fixed seed), reconstruction MSE, posterior
+    // score.
     net->eval();
     double elbo = 0, mse = 0;
     std::vector<double> scores;
@@ -197,7 +211,8 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
       at::Generator eval_gen = at::make_generator<at::CPUGeneratorImpl>(t.seed + 17);
       for (int64_t s = 0; s < num_held; s += 512) {
         const int64_t count = std::min<int64_t>(512, num_held - s);
-        const torch::Tensor x = norm.ToNodeMajor(held.data() + static_cast<size_t>(s) * T * N, count);
+        const torch::Tensor x =
+            norm.ToNodeMajor(held.data() + static_cast<size_t>(s) * T * N, count);
         const HgvaeOutput o = net->forward(x, {}, LatentMode::kSample, eval_gen);
         elbo += (HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl).sum().item<double>();
         const HgvaeOutput om = net->forward(x, {}, LatentMode::kPosteriorMean);
@@ -210,8 +225,11 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
     HgvaeEpochLog log;
     log.epoch = epoch;
     log.kl_weight = beta;
-    log.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
-    log.terms = {{"loss", sum_loss / iterations}, {"nll", sum_nll / iterations}, {"kl", sum_kl / iterations}};
+    log.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
+    log.terms = {{"loss", sum_loss / iterations},
+                 {"nll", sum_nll / iterations},
+                 {"kl", sum_kl / iterations}};
     for (int64_t lv = 0; lv < net->num_levels(); ++lv) {
       log.terms.emplace_back("kl" + std::to_string(lv), sum_levels[lv] / iterations);
     }
@@ -227,7 +245,8 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
     csv << epoch + 1 << "," << beta << "," << log.seconds;
     for (const auto& [k, v] : log.terms) csv << "," << v;
     csv << "\n" << std::flush;
-    m.info.erase(std::remove_if(m.info.begin(), m.info.end(), [](const auto& kv) { return kv.first == "epochs_trained"; }),
+    m.info.erase(std::remove_if(m.info.begin(), m.info.end(),
+                                [](const auto& kv) { return kv.first == "epochs_trained"; }),
                  m.info.end());
     m.info.emplace_back("epochs_trained", std::to_string(epoch + 1));
     SaveHgvaeBundle(out_dir, m, net);
@@ -239,10 +258,11 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   return summary;
 }
 
-void RefreshBundleSettings(const std::string& dir, const HgvaeData& data, const HgvaeTrainConfig& config) {
+void RefreshBundleSettings(const std::string& dir, const HgvaeData& data,
+                           const HgvaeTrainConfig& config) {
   const HgvaeModel model = HgvaeModel::Load(dir);
-  const std::vector<float> held =
-      HeldOutWindows(data.held_out, model.window(), model.coords(), config.training.held_out_windows);
+  const std::vector<float> held = HeldOutWindows(data.held_out, model.window(), model.coords(),
+                                                 config.training.held_out_windows);
   HgvaeManifest m = model.manifest();
   SetScoreStatistics(model.Score(held, config.ood_score), &m);
   m.ood_score = config.ood_score;

@@ -39,7 +39,8 @@ std::vector<float> HeldOutWindows(const HgvaeClips& clips, int window, int coord
 struct HgvaeEpochLog {
   int epoch = 0;  // 0-based
   double seconds = 0, kl_weight = 0;
-  std::vector<std::pair<std::string, double>> terms;  // loss, nll, kl, kl0.., held-out elbo, mse, score
+  std::vector<std::pair<std::string, double>>
+      terms;  // loss, nll, kl, kl0.., held-out elbo, mse, score
 };
 
 struct HgvaeTrainCallbacks {
@@ -56,13 +57,14 @@ struct HgvaeTrainSummary {
 // base: protocol, fps, skeleton, ood_k, impute defaults, info (normalisation, classes, model sizes
 // and OoD statistics are filled here). Writes OUT/hgvae.yaml + OUT/hgvae.pt, OUT/log.csv,
 // OUT/checkpoint/; resumes from OUT/checkpoint. stop_after_epochs > 0 ends early.
-HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest& base, const HgvaeData& data,
-                             const std::string& out_dir, const HgvaeTrainCallbacks& callbacks,
-                             int stop_after_epochs = 0);
+HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest& base,
+                             const HgvaeData& data, const std::string& out_dir,
+                             const HgvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
 
 // Rewrites a trained bundle's settings that do not change its weights from `config`: the
 // imputation defaults, the out-of-distribution score and k, and that score's statistics over the
 // held-out windows (recomputed). `hgvae train` does this on a run whose epochs are all done.
-void RefreshBundleSettings(const std::string& dir, const HgvaeData& data, const HgvaeTrainConfig& config);
+void RefreshBundleSettings(const std::string& dir, const HgvaeData& data,
+                           const HgvaeTrainConfig& config);
 
 }  // namespace motionfork

@@ -16,7 +16,8 @@ namespace {
 
 void CheckMotion(const HgvaeModel& model, const Motion& motion) {
   if (motion.num_joints() != model.skeleton().num_joints()) {
-    throw std::invalid_argument("expected a motion on the model's skeleton '" + model.skeleton().name() + "' (" +
+    throw std::invalid_argument("expected a motion on the model's skeleton '" +
+                                model.skeleton().name() + "' (" +
                                 std::to_string(model.skeleton().num_joints()) + " joints), got " +
                                 std::to_string(motion.num_joints()) + " joints");
   }
@@ -27,7 +28,8 @@ void CheckMotion(const HgvaeModel& model, const Motion& motion) {
 }
 
 template <typename T>
-std::vector<T> Gather(const std::vector<T>& poses, const std::vector<int>& starts, int window, int coords) {
+std::vector<T> Gather(const std::vector<T>& poses, const std::vector<int>& starts, int window,
+                      int coords) {
   std::vector<T> w;
   w.reserve(starts.size() * window * coords);
   for (int s : starts) {
@@ -39,10 +41,12 @@ std::vector<T> Gather(const std::vector<T>& poses, const std::vector<int>& start
 
 }  // namespace
 
-MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion, const std::vector<uint8_t>& missing,
-                              const ImputeOptions& options, int class_index) {
+MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion,
+                              const std::vector<uint8_t>& missing, const ImputeOptions& options,
+                              int class_index) {
   CheckMotion(model, motion);
-  const int T = motion.num_frames(), J = motion.num_joints(), W = model.window(), N = model.coords();
+  const int T = motion.num_frames(), J = motion.num_joints(), W = model.window(),
+            N = model.coords();
   if (missing.size() != motion.positions().size()) {
     throw std::invalid_argument("the missing-value mask has " + std::to_string(missing.size()) +
                                 " values, the motion " + std::to_string(motion.positions().size()));
@@ -56,9 +60,9 @@ MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion, con
     const size_t f = static_cast<size_t>(t) * J * 3;
     for (int a = 0; a < 3; ++a) {
       if (missing[f + a]) {
-        throw std::invalid_argument("frame " + std::to_string(t) + ": the root joint '" +
-                                    model.skeleton().joint_name(0) +
-                                    "' has a missing value; it must be known (poses are root-relative)");
+        throw std::invalid_argument(
+            "frame " + std::to_string(t) + ": the root joint '" + model.skeleton().joint_name(0) +
+            "' has a missing value; it must be known (poses are root-relative)");
       }
     }
     for (int v = 0; v < N; ++v) {
@@ -70,7 +74,8 @@ MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion, con
   if (out.missing_values == 0) return out;
   std::vector<int> starts;
   for (int s : CoveringWindowStarts(T, W, W)) {
-    const auto first = mask.begin() + static_cast<size_t>(s) * N, last = first + static_cast<size_t>(W) * N;
+    const auto first = mask.begin() + static_cast<size_t>(s) * N,
+               last = first + static_cast<size_t>(W) * N;
     if (std::find(first, last, 1) == last) continue;  // nothing missing here
     if (std::all_of(first, last, [](uint8_t m) { return m != 0; })) {
       throw std::invalid_argument("frames " + std::to_string(s) + ".." + std::to_string(s + W - 1) +
@@ -95,7 +100,8 @@ MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion, con
     const size_t f = static_cast<size_t>(t) * J * 3;
     for (int v = 0; v < N; ++v) {
       const size_t g = static_cast<size_t>(t) * N + v;
-      if (mask[g] && hits[g] > 0) pos[f + 3 + v] = static_cast<float>(sum[g] / hits[g]) + p[f + v % 3];
+      if (mask[g] && hits[g] > 0)
+        pos[f + 3 + v] = static_cast<float>(sum[g] / hits[g]) + p[f + v % 3];
     }
   }
   out.motion = Motion(motion.skeleton_ptr(), motion.fps(), std::move(pos));
@@ -105,14 +111,19 @@ MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion, con
   return out;
 }
 
-std::vector<WindowScore> ScoreMotion(const HgvaeModel& model, const Motion& motion, int stride, int class_index) {
+std::vector<WindowScore> ScoreMotion(const HgvaeModel& model, const Motion& motion, int stride,
+                                     int class_index) {
   CheckMotion(model, motion);
-  if (stride < 1) throw std::invalid_argument("ScoreMotion: expected a stride >= 1, got " + std::to_string(stride));
+  if (stride < 1)
+    throw std::invalid_argument("ScoreMotion: expected a stride >= 1, got " +
+                                std::to_string(stride));
   const std::vector<float> poses = PoseVectorsWithoutRoot(motion);
   const std::vector<int> starts = CoveringWindowStarts(motion.num_frames(), model.window(), stride);
-  const std::vector<double> scores = model.Score(Gather(poses, starts, model.window(), model.coords()), class_index);
+  const std::vector<double> scores =
+      model.Score(Gather(poses, starts, model.window(), model.coords()), class_index);
   std::vector<WindowScore> out;
-  for (size_t i = 0; i < starts.size(); ++i) out.push_back({starts[i], scores[i], model.OutOfDistribution(scores[i])});
+  for (size_t i = 0; i < starts.size(); ++i)
+    out.push_back({starts[i], scores[i], model.OutOfDistribution(scores[i])});
   return out;
 }
 

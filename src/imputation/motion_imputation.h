@@ -11,9 +11,9 @@
 namespace motionfork {
 
 struct MotionImputation {
-  Motion motion;                 // observed values unchanged, missing ones filled
-  int missing_values = 0;        // in the input
-  std::vector<int> window_starts;  // windows that held missing values (first frame)
+  Motion motion;                                  // observed values unchanged, missing ones filled
+  int missing_values = 0;                         // in the input
+  std::vector<int> window_starts;                 // windows that held missing values (first frame)
   std::vector<double> score_before, score_after;  // per such window
 };
 
@@ -22,8 +22,9 @@ struct MotionImputation {
 // frames two windows cover get the mean of both. Throws std::invalid_argument for a motion
 // shorter than the window, a missing root value (poses are root-relative; names the frame), a
 // window with every value missing (names its frames), or a mask of the wrong size.
-MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion, const std::vector<uint8_t>& missing,
-                              const ImputeOptions& options, int class_index = -1);
+MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion,
+                              const std::vector<uint8_t>& missing, const ImputeOptions& options,
+                              int class_index = -1);
 
 struct WindowScore {
   int start = 0;  // first frame
@@ -32,7 +33,8 @@ struct WindowScore {
 };
 
 // Windows starting every `stride` frames (and one ending at the last frame).
-std::vector<WindowScore> ScoreMotion(const HgvaeModel& model, const Motion& motion, int stride, int class_index = -1);
+std::vector<WindowScore> ScoreMotion(const HgvaeModel& model, const Motion& motion, int stride,
+                                     int class_index = -1);
 
 // Start frames of windows of `window` frames every `stride` frames covering 0..frames-1.
 std::vector<int> CoveringWindowStarts(int frames, int window, int stride);

@@ -17,7 +17,8 @@ std::vector<uint8_t> RandomOcclusion(int count, int values, double share, uint64
 
 // Missing joints (skeleton joint indices, not the root) over every frame of `count` windows of
 // `frames` frames in the root-relative layout without the root (3 values per non-root joint).
-std::vector<uint8_t> JointOcclusion(int count, int frames, int num_joints, const std::vector<int>& joints);
+std::vector<uint8_t> JointOcclusion(int count, int frames, int num_joints,
+                                    const std::vector<int>& joints);
 
 // A mask over a motion [T, J, 3] from a spec, one of:
 //   random:SHARE            a share (0..1) of every value, at random (seed)
@@ -28,6 +29,7 @@ std::vector<uint8_t> JointOcclusion(int count, int frames, int num_joints, const
 // Throws std::invalid_argument naming the unknown joint (and listing the skeleton's), the root
 // (poses are root-relative: it cannot be missing), frames outside 0..T-1, or a mask file of
 // another shape (FormatError for an unreadable one).
-std::vector<uint8_t> MaskFromSpec(const std::string& spec, const Skeleton& skeleton, int frames, uint64_t seed);
+std::vector<uint8_t> MaskFromSpec(const std::string& spec, const Skeleton& skeleton, int frames,
+                                  uint64_t seed);
 
 }  // namespace motionfork

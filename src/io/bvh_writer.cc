@@ -140,9 +140,10 @@ std::array<double, 3> EulerDegrees(const double* rotation, const std::string& or
 void ValidateBvhWriteOptions(const BvhWriteOptions& options) {
   ParseOrder(options.rotation_order);
   if (!(options.scale_to_metres > 0) || !std::isfinite(options.scale_to_metres)) {
-    throw std::invalid_argument("BvhWriteOptions::scale_to_metres: expected a finite number > 0 "
-                                "(0.01 for centimetres, 1 for metres), got " +
-                                std::to_string(options.scale_to_metres));
+    throw std::invalid_argument(
+        "BvhWriteOptions::scale_to_metres: expected a finite number > 0 "
+        "(0.01 for centimetres, 1 for metres), got " +
+        std::to_string(options.scale_to_metres));
   }
   if (options.decimals < 1 || options.decimals > 15) {
     throw std::invalid_argument("BvhWriteOptions::decimals: expected 1..15, got " +

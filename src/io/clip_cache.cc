@@ -65,8 +65,8 @@ class Reader {
   void Need(size_t n, const char* what) {
     if (n > b_.size() - pos_) {
       throw FormatError(FormatMessage(path_, "byte " + std::to_string(pos_),
-                                      std::string("cache is truncated: expected ") + what +
-                                          " of " + std::to_string(n) + " bytes, found " +
+                                      std::string("cache is truncated: expected ") + what + " of " +
+                                          std::to_string(n) + " bytes, found " +
                                           std::to_string(b_.size() - pos_) +
                                           " (delete the file to rebuild it)"));
     }
@@ -129,8 +129,10 @@ bool ReadClipCache(const std::string& path, uint64_t key, std::vector<CachedClip
   clips->clear();
   if (!std::filesystem::is_regular_file(path)) return false;
   const std::string bytes = ReadFileBytes(path);
-  if (bytes.size() < sizeof(kMagic) + 12 || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
-    throw FormatError(FormatMessage(path, "", "not a motionfork clip cache (bad magic); delete it"));
+  if (bytes.size() < sizeof(kMagic) + 12 ||
+      std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    throw FormatError(
+        FormatMessage(path, "", "not a motionfork clip cache (bad magic); delete it"));
   }
   Reader r(bytes, path);
   for (size_t i = 0; i < sizeof(kMagic); ++i) r.Get<char>();
@@ -162,13 +164,14 @@ bool ReadClipCache(const std::string& path, uint64_t key, std::vector<CachedClip
       if (k >= skeletons.size()) throw std::invalid_argument("bad skeleton index");
       const double fps = r.Get<double>();
       const uint32_t frames = r.Get<uint32_t>();
-      std::vector<float> p = r.GetFloats(static_cast<size_t>(frames) * skeletons[k]->num_joints() * 3);
+      std::vector<float> p =
+          r.GetFloats(static_cast<size_t>(frames) * skeletons[k]->num_joints() * 3);
       clip.motion = Motion(skeletons[k], fps, std::move(p));
       clips->push_back(std::move(clip));
     }
   } catch (const std::invalid_argument& e) {
-    throw FormatError(FormatMessage(path, "", std::string("corrupt cache (") + e.what() +
-                                                  "); delete the file to rebuild it"));
+    throw FormatError(FormatMessage(
+        path, "", std::string("corrupt cache (") + e.what() + "); delete the file to rebuild it"));
   }
   if (!r.AtEnd()) throw FormatError(FormatMessage(path, "", "corrupt cache: trailing bytes"));
   return true;

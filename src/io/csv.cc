@@ -278,7 +278,9 @@ void ParseComment(const Line& line, const std::string& source, Metadata* meta) {
 }
 
 // A missing value in a CSV motion: an empty field, "nan" or "NaN" (as numpy and pandas write it).
-bool IsMissingField(std::string_view f) { return f.empty() || f == "nan" || f == "NaN" || f == "NAN"; }
+bool IsMissingField(std::string_view f) {
+  return f.empty() || f == "nan" || f == "NaN" || f == "NAN";
+}
 
 Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
                       std::shared_ptr<const Skeleton> skeleton, double fallback_fps,
@@ -327,7 +329,8 @@ Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
     for (size_t c = 0; c < fields.size(); ++c) {
       const std::string_view f = Trim(fields[c]);
       if (missing && IsMissingField(f)) {
-        (*missing)[frames * per_frame + static_cast<size_t>(columns[c].joint) * 3 + columns[c].axis] = 1;
+        (*missing)[frames * per_frame + static_cast<size_t>(columns[c].joint) * 3 +
+                   columns[c].axis] = 1;
         frame[static_cast<size_t>(columns[c].joint) * 3 + columns[c].axis] = 0.0f;
         continue;
       }
@@ -378,8 +381,8 @@ void AppendNumber(std::string* out, float value) {
 
 }  // namespace
 
-Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton,
-                     double fps, std::vector<uint8_t>* missing) {
+Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton, double fps,
+                     std::vector<uint8_t>* missing) {
   return ParseCsvMotion(ReadFileBytes(path), path, std::move(skeleton), fps, missing);
 }
 

@@ -21,8 +21,8 @@ namespace motionfork {
 // column on a non-number, NaN/Inf, wrong column count, unknown or missing joint names. With
 // `missing`, empty fields and nan/NaN are accepted as missing values: they read as 0 and are
 // marked 1 in *missing ([T, J, 3]).
-Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton,
-                     double fps, std::vector<uint8_t>* missing = nullptr);
+Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton, double fps,
+                     std::vector<uint8_t>* missing = nullptr);
 // All-or-nothing write.
 void WriteCsvMotion(const std::string& path, const Motion& motion);
 

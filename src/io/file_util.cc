@@ -13,7 +13,8 @@ namespace motionfork {
 
 std::string ReadFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw FormatError(FormatMessage(path, "", std::string("cannot open: ") + std::strerror(errno)));
+  if (!in)
+    throw FormatError(FormatMessage(path, "", std::string("cannot open: ") + std::strerror(errno)));
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
   if (size < 0) throw FormatError(FormatMessage(path, "", "cannot read (not a regular file?)"));
@@ -36,7 +37,8 @@ void WriteFileAtomically(const std::string& path, std::string_view bytes) {
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) {
-      throw FormatError(FormatMessage(path, "", std::string("cannot write: ") + std::strerror(errno)));
+      throw FormatError(
+          FormatMessage(path, "", std::string("cannot write: ") + std::strerror(errno)));
     }
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.flush();
@@ -51,7 +53,8 @@ void WriteFileAtomically(const std::string& path, std::string_view bytes) {
   fs::rename(tmp, target, ec);
   if (ec) {
     fs::remove(tmp, ec);
-    throw FormatError(FormatMessage(path, "", "cannot move the written file into place: " + ec.message()));
+    throw FormatError(
+        FormatMessage(path, "", "cannot move the written file into place: " + ec.message()));
   }
 }
 

@@ -21,9 +21,12 @@ MotionFormat FormatOfPath(const std::string& path) {
 
 const char* ToString(MotionFormat format) {
   switch (format) {
-    case MotionFormat::kBvh: return "BVH";
-    case MotionFormat::kNpy: return "NumPy .npy";
-    case MotionFormat::kCsv: return "CSV";
+    case MotionFormat::kBvh:
+      return "BVH";
+    case MotionFormat::kNpy:
+      return "NumPy .npy";
+    case MotionFormat::kCsv:
+      return "CSV";
   }
   return "?";
 }
@@ -35,17 +38,22 @@ Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options)
       if (options.missing) options.missing->assign(m.positions().size(), 0);
       return m;
     }
-    case MotionFormat::kNpy: return ReadNpyMotion(path, options.skeleton, options.fps, options.missing);
-    case MotionFormat::kCsv: return ReadCsvMotion(path, options.skeleton, options.fps, options.missing);
+    case MotionFormat::kNpy:
+      return ReadNpyMotion(path, options.skeleton, options.fps, options.missing);
+    case MotionFormat::kCsv:
+      return ReadCsvMotion(path, options.skeleton, options.fps, options.missing);
   }
   throw std::logic_error("unreachable");
 }
 
 void WriteMotionFile(const std::string& path, const Motion& motion, const BvhWriteOptions& bvh) {
   switch (FormatOfPath(path)) {
-    case MotionFormat::kBvh: return WriteBvh(path, motion, bvh);
-    case MotionFormat::kNpy: return WriteNpyMotion(path, motion);
-    case MotionFormat::kCsv: return WriteCsvMotion(path, motion);
+    case MotionFormat::kBvh:
+      return WriteBvh(path, motion, bvh);
+    case MotionFormat::kNpy:
+      return WriteNpyMotion(path, motion);
+    case MotionFormat::kCsv:
+      return WriteCsvMotion(path, motion);
   }
 }
 

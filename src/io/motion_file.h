@@ -2,10 +2,10 @@
 // .bvh, .npy and .csv (read and write).
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
-#include <cstdint>
 
 #include "core/motion.h"
 #include "io/bvh.h"

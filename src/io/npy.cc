@@ -412,7 +412,9 @@ NpyArray ParseNpy(std::string_view bytes, const std::string& source_name, bool a
   return out;
 }
 
-NpyArray ReadNpy(const std::string& path, bool allow_nan) { return ParseNpy(ReadFileBytes(path), path, allow_nan); }
+NpyArray ReadNpy(const std::string& path, bool allow_nan) {
+  return ParseNpy(ReadFileBytes(path), path, allow_nan);
+}
 
 std::string SerializeNpy(const NpyArray& array) {
   size_t count = 1;
@@ -478,8 +480,8 @@ void WriteNpy(const std::string& path, const NpyArray& array) {
   WriteFileAtomically(path, SerializeNpy(array));
 }
 
-Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton,
-                     double fps, std::vector<uint8_t>* missing) {
+Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton, double fps,
+                     std::vector<uint8_t>* missing) {
   NpyArray array = ReadNpy(path, missing != nullptr);
   if (array.shape.size() != 3 || array.shape[2] != 3) {
     throw FormatError(FormatMessage(

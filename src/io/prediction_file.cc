@@ -37,7 +37,8 @@ T Get(const json& j, const std::string& key, const std::string& file) {
   try {
     return j.at(key).get<T>();
   } catch (const json::exception&) {
-    throw FormatError(FormatMessage(file, "key '" + key + "'", "unexpected value " + j.at(key).dump()));
+    throw FormatError(
+        FormatMessage(file, "key '" + key + "'", "unexpected value " + j.at(key).dump()));
   }
 }
 
@@ -45,7 +46,8 @@ SampleValidity ValidityFromJson(const json& j, const std::string& file) {
   SampleValidity v;
   v.valid = Get<bool>(j, "valid", file);
   v.violating_frames = Get<int>(j, "violating_frames", file);
-  if (j.contains("prior_nll") && !j.at("prior_nll").is_null()) v.prior_nll = Get<double>(j, "prior_nll", file);
+  if (j.contains("prior_nll") && !j.at("prior_nll").is_null())
+    v.prior_nll = Get<double>(j, "prior_nll", file);
   return v;
 }
 
@@ -56,13 +58,14 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   const int T = p.frames(), J = p.joints();
   const size_t expected = static_cast<size_t>(p.k) * T * J * 3;
   if (p.positions.size() != expected) {
-    throw std::invalid_argument("WritePrediction: expected " + std::to_string(expected) + " positions ([" +
-                                std::to_string(p.k) + ", " + std::to_string(T) + ", " + std::to_string(J) +
-                                ", 3]), got " + std::to_string(p.positions.size()));
+    throw std::invalid_argument("WritePrediction: expected " + std::to_string(expected) +
+                                " positions ([" + std::to_string(p.k) + ", " + std::to_string(T) +
+                                ", " + std::to_string(J) + ", 3]), got " +
+                                std::to_string(p.positions.size()));
   }
   if (!p.samples.empty() && static_cast<int>(p.samples.size()) != p.k) {
-    throw std::invalid_argument("WritePrediction: expected " + std::to_string(p.k) + " sample entries, got " +
-                                std::to_string(p.samples.size()));
+    throw std::invalid_argument("WritePrediction: expected " + std::to_string(p.k) +
+                                " sample entries, got " + std::to_string(p.samples.size()));
   }
   const std::string base = StripExtension(out);
   const Skeleton& s = *p.skeleton;
@@ -84,7 +87,8 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   j["left_right"] = pairs;
   json parts = json::array();
   if (!s.partitions().empty()) {
-    for (const BodyPart& part : s.GetPartition().parts) parts.push_back({{"name", part.name}, {"joints", part.joints}});
+    for (const BodyPart& part : s.GetPartition().parts)
+      parts.push_back({{"name", part.name}, {"joints", part.joints}});
   }
   j["parts"] = parts;
   j["fixed_parts"] = p.fixed_parts;
@@ -92,12 +96,16 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   j["shape"] = {p.k, T, J, 3};
   if (p.history_validity) j["history_validity"] = ValidityJson(*p.history_validity);
   if (p.denoising) {
-    j["denoising"] = {{"model", p.denoising->model}, {"mode", p.denoising->mode}, {"frames", p.denoising->frames},
+    j["denoising"] = {{"model", p.denoising->model},
+                      {"mode", p.denoising->mode},
+                      {"frames", p.denoising->frames},
                       {"mean_change", p.denoising->mean_change}};
   }
   if (p.imputation) {
-    j["imputation"] = {{"model", p.imputation->model}, {"missing_values", p.imputation->missing_values},
-                       {"score_before", p.imputation->score_before}, {"score_after", p.imputation->score_after}};
+    j["imputation"] = {{"model", p.imputation->model},
+                       {"missing_values", p.imputation->missing_values},
+                       {"score_before", p.imputation->score_before},
+                       {"score_after", p.imputation->score_after}};
   }
   json samples = json::array();
   for (const SampleValidity& v : p.samples) samples.push_back(ValidityJson(v));
@@ -115,7 +123,9 @@ Prediction ReadPrediction(const std::string& path) {
   const std::string base = StripExtension(path);
   const std::string json_path = base + ".json";
   if (!std::filesystem::exists(json_path)) {
-    throw FormatError(FormatMessage(json_path, "", "prediction description not found (written by 'motionfork predict' beside the .npy)"));
+    throw FormatError(FormatMessage(
+        json_path, "",
+        "prediction description not found (written by 'motionfork predict' beside the .npy)"));
   }
   json j;
   try {
@@ -135,57 +145,70 @@ Prediction ReadPrediction(const std::string& path) {
   p.t_his = Get<int>(j, "t_his", json_path);
   p.t_pred = Get<int>(j, "t_pred", json_path);
   if (p.k < 1 || p.t_his < 1 || p.t_pred < 0 || !(p.fps > 0)) {
-    throw FormatError(FormatMessage(json_path, "", "expected k >= 1, t_his >= 1, t_pred >= 0, fps > 0"));
+    throw FormatError(
+        FormatMessage(json_path, "", "expected k >= 1, t_his >= 1, t_pred >= 0, fps > 0"));
   }
   const auto names = Get<std::vector<std::string>>(j, "joints", json_path);
   const auto parents = Get<std::vector<int>>(j, "parents", json_path);
   std::vector<std::pair<int, int>> pairs;
   for (const auto& pr : j.value("left_right", json::array())) {
     const auto v = pr.get<std::vector<int>>();
-    if (v.size() != 2) throw FormatError(FormatMessage(json_path, "key 'left_right'", "expected [left, right] pairs"));
+    if (v.size() != 2)
+      throw FormatError(
+          FormatMessage(json_path, "key 'left_right'", "expected [left, right] pairs"));
     pairs.emplace_back(v[0], v[1]);
   }
   std::vector<Partition> partitions;
   if (j.contains("parts") && !j["parts"].empty()) {
     Partition part{"default", {}};
-    for (const auto& pj : j["parts"]) part.parts.push_back({Get<std::string>(pj, "name", json_path),
-                                                            Get<std::vector<int>>(pj, "joints", json_path)});
+    for (const auto& pj : j["parts"])
+      part.parts.push_back({Get<std::string>(pj, "name", json_path),
+                            Get<std::vector<int>>(pj, "joints", json_path)});
     partitions.push_back(part);
   }
   try {
-    p.skeleton = std::make_shared<Skeleton>(
-        Skeleton::FromParents(j.value("skeleton", std::string("prediction")), names, parents, pairs, partitions));
+    p.skeleton = std::make_shared<Skeleton>(Skeleton::FromParents(
+        j.value("skeleton", std::string("prediction")), names, parents, pairs, partitions));
   } catch (const std::invalid_argument& e) {
     throw FormatError(FormatMessage(json_path, "skeleton", e.what()));
   }
   p.fixed_parts = j.value("fixed_parts", std::vector<std::string>{});
-  if (j.contains("history_validity")) p.history_validity = ValidityFromJson(j["history_validity"], json_path);
+  if (j.contains("history_validity"))
+    p.history_validity = ValidityFromJson(j["history_validity"], json_path);
   if (j.contains("imputation")) {
     const json& im = j["imputation"];
-    p.imputation = HistoryImputation{im.value("model", std::string()), im.value("missing_values", 0),
-                                     im.value("score_before", 0.0), im.value("score_after", 0.0)};
+    p.imputation =
+        HistoryImputation{im.value("model", std::string()), im.value("missing_values", 0),
+                          im.value("score_before", 0.0), im.value("score_after", 0.0)};
   }
   if (j.contains("denoising")) {
     const json& dn = j["denoising"];
-    p.denoising = HistoryDenoising{dn.value("model", std::string()), dn.value("mode", std::string()),
-                                   dn.value("frames", 0), dn.value("mean_change", 0.0)};
+    p.denoising =
+        HistoryDenoising{dn.value("model", std::string()), dn.value("mode", std::string()),
+                         dn.value("frames", 0), dn.value("mean_change", 0.0)};
   }
-  for (const auto& sj : j.value("samples", json::array())) p.samples.push_back(ValidityFromJson(sj, json_path));
+  for (const auto& sj : j.value("samples", json::array()))
+    p.samples.push_back(ValidityFromJson(sj, json_path));
   if (!p.samples.empty() && static_cast<int>(p.samples.size()) != p.k) {
-    throw FormatError(FormatMessage(json_path, "key 'samples'", "expected " + std::to_string(p.k) + " entries, found " +
-                                                                  std::to_string(p.samples.size())));
+    throw FormatError(FormatMessage(
+        json_path, "key 'samples'",
+        "expected " + std::to_string(p.k) + " entries, found " + std::to_string(p.samples.size())));
   }
 
-  const std::string array_name = j.value("array", std::filesystem::path(base + ".npy").filename().string());
-  const std::string npy_path = (std::filesystem::path(json_path).parent_path() / array_name).string();
+  const std::string array_name =
+      j.value("array", std::filesystem::path(base + ".npy").filename().string());
+  const std::string npy_path =
+      (std::filesystem::path(json_path).parent_path() / array_name).string();
   NpyArray arr = ReadNpy(npy_path);
   const std::vector<int64_t> want = {p.k, p.frames(), static_cast<int64_t>(names.size()), 3};
   if (arr.shape != want) {
     std::string found;
-    for (size_t i = 0; i < arr.shape.size(); ++i) found += (i ? ", " : "") + std::to_string(arr.shape[i]);
-    throw FormatError(FormatMessage(npy_path, "", "expected shape [" + std::to_string(want[0]) + ", " +
-                                                      std::to_string(want[1]) + ", " + std::to_string(want[2]) +
-                                                      ", 3] (from " + json_path + "), found [" + found + "]"));
+    for (size_t i = 0; i < arr.shape.size(); ++i)
+      found += (i ? ", " : "") + std::to_string(arr.shape[i]);
+    throw FormatError(FormatMessage(npy_path, "",
+                                    "expected shape [" + std::to_string(want[0]) + ", " +
+                                        std::to_string(want[1]) + ", " + std::to_string(want[2]) +
+                                        ", 3] (from " + json_path + "), found [" + found + "]"));
   }
   p.positions = std::move(arr.data);
   return p;

@@ -4,8 +4,9 @@
 //             its future (t_pred frames), T = t_his + t_pred.
 //   OUT.json  the description: model, protocol, history file, start frame, K, seed, fps, t_his,
 //             t_pred, the skeleton (joint names, parent indices, left/right pairs, body parts in
-//             prediction order), the fixed parts, the array's file name and shape, and one entry per
-//             sample with its validity (angle ranges) and mean prior NLL when the bundle has them.
+//             prediction order), the fixed parts, the array's file name and shape, and one entry
+//             per sample with its validity (angle ranges) and mean prior NLL when the bundle has
+//             them.
 #pragma once
 
 #include <memory>
@@ -33,10 +34,10 @@ struct HistoryImputation {
 };
 
 struct HistoryDenoising {
-  std::string model;        // Motion-DVAE bundle
-  std::string mode;         // regression | optimisation
-  int frames = 0;           // frames denoised: the history and up to one window before it
-  double mean_change = 0;   // mean distance moved per history joint, metres
+  std::string model;       // Motion-DVAE bundle
+  std::string mode;        // regression | optimisation
+  int frames = 0;          // frames denoised: the history and up to one window before it
+  double mean_change = 0;  // mean distance moved per history joint, metres
 };
 
 struct Prediction {
@@ -46,16 +47,18 @@ struct Prediction {
   double fps = 0;
   std::shared_ptr<const Skeleton> skeleton;  // names, parents, left/right pairs, parts ("default")
   std::vector<std::string> fixed_parts;
-  std::vector<float> positions;        // [K, t_his + t_pred, J, 3]
+  std::vector<float> positions;         // [K, t_his + t_pred, J, 3]
   std::vector<SampleValidity> samples;  // K entries, or empty when validity was not computed
   std::optional<SampleValidity> history_validity;  // the same figures for the history frames
   std::optional<HistoryImputation> imputation;     // the history's missing values were imputed
-  std::optional<HistoryDenoising> denoising;       // the history was denoised (after any imputation)
+  std::optional<HistoryDenoising> denoising;  // the history was denoised (after any imputation)
 
   int frames() const { return t_his + t_pred; }
   int joints() const { return skeleton ? skeleton->num_joints() : 0; }
   // Sample k as a flat [T, J, 3] slice.
-  const float* sample(int k) const { return positions.data() + static_cast<size_t>(k) * frames() * joints() * 3; }
+  const float* sample(int k) const {
+    return positions.data() + static_cast<size_t>(k) * frames() * joints() * 3;
+  }
 };
 
 // Writes OUT.json and OUT.npy (OUT given with or without ".npy"/".json"); all-or-nothing per file.

@@ -21,10 +21,12 @@ std::string BetterBlasCore() {
   if (std::getenv("OPENBLAS_CORETYPE")) return "";
   std::string core = BlasCoreName();
   if (core.empty()) return "";
-  std::transform(core.begin(), core.end(), core.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(core.begin(), core.end(), core.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   // OpenBLAS's fallbacks for Intel CPUs it does not recognise: pre-AVX kernels.
-  static const char* const kGeneric[] = {"prescott", "core2", "penryn", "dunnington", "nehalem", "atom", "katmai",
-                                         "coppermine", "northwood", "banias", "unknown"};
+  static const char* const kGeneric[] = {"prescott",  "core2",  "penryn", "dunnington",
+                                         "nehalem",   "atom",   "katmai", "coppermine",
+                                         "northwood", "banias", "unknown"};
   if (std::find(std::begin(kGeneric), std::end(kGeneric), core) == std::end(kGeneric)) return "";
   __builtin_cpu_init();  // the checks below include the OS's support for the wider registers
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
@@ -37,7 +39,8 @@ std::string BetterBlasCore() {
 }
 
 void UseFastBlasKernels(char** argv) {
-  if (const char* off = std::getenv("MOTIONFORK_BLAS_REEXEC"); off && std::string(off) == "0") return;
+  if (const char* off = std::getenv("MOTIONFORK_BLAS_REEXEC"); off && std::string(off) == "0")
+    return;
   const std::string core = BetterBlasCore();
   if (core.empty()) return;
   setenv("OPENBLAS_CORETYPE", core.c_str(), 1);  // also stops a second re-exec

@@ -39,8 +39,9 @@ void Deserialize(T& obj, const fs::path& path) {
 
 }  // namespace
 
-void SaveCheckpoint(const std::string& dir, const std::string& weights_name, torch::nn::Module& module,
-                    torch::optim::Optimizer& optimizer, int epochs_done) {
+void SaveCheckpoint(const std::string& dir, const std::string& weights_name,
+                    torch::nn::Module& module, torch::optim::Optimizer& optimizer,
+                    int epochs_done) {
   const fs::path d(dir);
   fs::create_directories(d);
   WriteAtomically(d / weights_name, Serialize(module));
@@ -50,8 +51,8 @@ void SaveCheckpoint(const std::string& dir, const std::string& weights_name, tor
   WriteAtomically(d / "state.pt", state.str());
 }
 
-int LoadCheckpoint(const std::string& dir, const std::string& weights_name, torch::nn::Module& module,
-                   torch::optim::Optimizer& optimizer) {
+int LoadCheckpoint(const std::string& dir, const std::string& weights_name,
+                   torch::nn::Module& module, torch::optim::Optimizer& optimizer) {
   const fs::path d(dir);
   if (!fs::is_regular_file(d / "state.pt")) return 0;
   torch::Tensor epochs;

@@ -17,7 +17,8 @@ PoseValidator::PoseValidator(std::shared_ptr<const Skeleton> skeleton, double fp
                              const std::string& constraints_yaml, const std::string& prior_dir)
     : skeleton_(std::move(skeleton)), fps_(fps) {
   if (!constraints_yaml.empty()) {
-    set_ = std::make_unique<ConstraintSet>(ConstraintSet::Build(LoadConstraintConfig(constraints_yaml), *skeleton_));
+    set_ = std::make_unique<ConstraintSet>(
+        ConstraintSet::Build(LoadConstraintConfig(constraints_yaml), *skeleton_));
     checker_ = std::make_unique<AngleChecker>(*set_);
     described_ = "angles: " + constraints_yaml;
   }
@@ -28,11 +29,12 @@ PoseValidator::PoseValidator(std::shared_ptr<const Skeleton> skeleton, double fp
   }
 }
 
-PoseValidator PoseValidator::FromBundle(const std::string& bundle_dir, std::shared_ptr<const Skeleton> skeleton,
-                                        double fps) {
+PoseValidator PoseValidator::FromBundle(const std::string& bundle_dir,
+                                        std::shared_ptr<const Skeleton> skeleton, double fps) {
   const fs::path dir(bundle_dir);
   const fs::path constraints = dir / "constraints.yaml", prior = dir / "prior";
-  return PoseValidator(std::move(skeleton), fps, fs::is_regular_file(constraints) ? constraints.string() : "",
+  return PoseValidator(std::move(skeleton), fps,
+                       fs::is_regular_file(constraints) ? constraints.string() : "",
                        fs::is_directory(prior) ? prior.string() : "");
 }
 
@@ -50,7 +52,8 @@ std::vector<double> PoseValidator::ViolationFlags(const float* positions, int fr
   std::vector<AngleStatus> status(static_cast<size_t>(frames) * C);
   checker_->Run(positions, frames, nullptr, status.data());
   for (int t = 0; t < frames; ++t) {
-    for (int c = 0; c < C && flags[t] == 0.0; ++c) flags[t] = IsViolation(status[static_cast<size_t>(t) * C + c]) ? 1.0 : 0.0;
+    for (int c = 0; c < C && flags[t] == 0.0; ++c)
+      flags[t] = IsViolation(status[static_cast<size_t>(t) * C + c]) ? 1.0 : 0.0;
   }
   return flags;
 }
@@ -59,7 +62,8 @@ std::vector<double> PoseValidator::PriorNll(const float* positions, int frames) 
   std::vector<double> nll(frames, 0.0);
   if (!prior_) return nll;
   const Motion m(skeleton_, fps_,
-                 std::vector<float>(positions, positions + static_cast<size_t>(frames) * skeleton_->num_joints() * 3));
+                 std::vector<float>(positions, positions + static_cast<size_t>(frames) *
+                                                               skeleton_->num_joints() * 3));
   const std::vector<double> lp = prior_->LogProb(m);
   for (int t = 0; t < frames; ++t) nll[t] = -lp[t];
   return nll;
@@ -77,7 +81,8 @@ SampleValidity PoseValidator::Score(const float* positions, int frames) const {
   return v;
 }
 
-void AttachToBundle(const std::string& bundle_dir, const std::string& constraints_yaml, const std::string& prior_dir) {
+void AttachToBundle(const std::string& bundle_dir, const std::string& constraints_yaml,
+                    const std::string& prior_dir) {
   const fs::path dir(bundle_dir);
   fs::create_directories(dir);
   if (!constraints_yaml.empty()) {

@@ -22,11 +22,11 @@ class PoseValidator {
  public:
   // constraints_yaml / prior_dir may be "" (that judge is off). Throws FormatError naming the file
   // when one does not load or does not fit the skeleton.
-  PoseValidator(std::shared_ptr<const Skeleton> skeleton, double fps, const std::string& constraints_yaml,
-                const std::string& prior_dir);
+  PoseValidator(std::shared_ptr<const Skeleton> skeleton, double fps,
+                const std::string& constraints_yaml, const std::string& prior_dir);
   // From a model bundle: DIR/constraints.yaml and DIR/prior/ when present.
-  static PoseValidator FromBundle(const std::string& bundle_dir, std::shared_ptr<const Skeleton> skeleton,
-                                  double fps);
+  static PoseValidator FromBundle(const std::string& bundle_dir,
+                                  std::shared_ptr<const Skeleton> skeleton, double fps);
   ~PoseValidator();
   PoseValidator(PoseValidator&&) noexcept;
   PoseValidator& operator=(PoseValidator&&) noexcept;
@@ -54,6 +54,7 @@ class PoseValidator {
 
 // Copies a constraint config (as DIR/constraints.yaml) and a prior bundle (as DIR/prior/) into a
 // model bundle so that it describes itself; "" skips one. Each file is written all-or-nothing.
-void AttachToBundle(const std::string& bundle_dir, const std::string& constraints_yaml, const std::string& prior_dir);
+void AttachToBundle(const std::string& bundle_dir, const std::string& constraints_yaml,
+                    const std::string& prior_dir);
 
 }  // namespace motionfork

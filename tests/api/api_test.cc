@@ -13,11 +13,11 @@
 #include <vector>
 
 #include "config/config_paths.h"
-#include "config/skeleton_config.h"
-#include "core/demo_motion.h"
 #include "config/constraint_config.h"
+#include "config/skeleton_config.h"
 #include "constraints/checker.h"
 #include "constraints/constraint_set.h"
+#include "core/demo_motion.h"
 #include "generator/forecaster.h"
 #include "io/motion_file.h"
 #include "motionfork/motionfork.h"
@@ -338,7 +338,8 @@ TEST_CASE("the shipped model: repaired futures pass Check, fixed legs stay ident
   LoadOptions options;
   options.config_dir = MOTIONFORK_CONFIG_DIR;
   const Model model = Model::Load(std::string(MOTIONFORK_SOURCE_DIR) + "/models/bandai", options);
-  const auto skeleton = LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "bandai")).skeleton;
+  const auto skeleton =
+      LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "bandai")).skeleton;
   const std::vector<float> history = MakeDemoWalk(skeleton).positions();  // Bandai protocol order
   PredictOptions repaired{20, 3, {"legs"}};
   const Futures a = model.Predict(history, repaired);

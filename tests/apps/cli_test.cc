@@ -1,6 +1,5 @@
 // The motionfork command, run as users run it: help, exit statuses, info/convert/dataset stats.
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
 
@@ -15,9 +14,10 @@ using testing::Motionfork;
 using testing::Run;
 
 TEST_CASE("every subcommand has --help") {
-  for (const char* sub : {"", "info", "convert", "dataset", "dataset stats", "train", "predict", "eval", "prior",
-                          "prior train", "prior score", "prior sample", "check", "constraints", "constraints fit",
-                          "constraints show", "export", "render", "synth"}) {
+  for (const char* sub :
+       {"", "info", "convert", "dataset", "dataset stats", "train", "predict", "eval", "prior",
+        "prior train", "prior score", "prior sample", "check", "constraints", "constraints fit",
+        "constraints show", "export", "render", "synth"}) {
     const Run r = Motionfork(std::string(sub) + " --help");
     INFO(sub << ": " << r.output);
     CHECK(r.status == 0);
@@ -35,7 +35,8 @@ TEST_CASE("info and convert work on npy and csv, onto a named skeleton") {
   CHECK(r.output.find("40 at 30 Hz") != std::string::npos);
   CHECK(r.output.find("17 joints") != std::string::npos);
 
-  r = Motionfork("convert " + dir.file("walk.csv") + " " + dir.file("walk.npy") + " --skeleton bandai");
+  r = Motionfork("convert " + dir.file("walk.csv") + " " + dir.file("walk.npy") +
+                 " --skeleton bandai");
   CHECK(r.status == 0);
   const NpyArray a = ReadNpy(dir.file("walk.npy"));
   CHECK(a.shape == std::vector<int64_t>{40, 17, 3});

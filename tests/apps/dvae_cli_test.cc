@@ -1,7 +1,6 @@
 // motionfork denoise / dvae eval / predict --denoise end to end, on a tiny Motion-DVAE trained in
 // code (tests/denoise/tiny_dvae.h) and the tiny generator bundle (tests/api/tiny_bundle.h).
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <filesystem>
 
@@ -44,11 +43,13 @@ TEST_CASE("denoise: writes a denoised file of the same length, deterministic, an
   testing::TempDir dir;
   const Motion clean = testing::MakeWalkingMotion(40, 30, 77);
   WriteCsvMotion(dir.file("noisy.csv"), AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 1));
-  const std::string base = "denoise --model " + models.denoiser + " --motion " + dir.file("noisy.csv") + " --skeleton bandai";
+  const std::string base = "denoise --model " + models.denoiser + " --motion " +
+                           dir.file("noisy.csv") + " --skeleton bandai";
   Run r = Motionfork(base + " -o " + dir.file("a.csv"));
   INFO(r.output);
   REQUIRE(r.status == 0);
-  CHECK_THAT(r.output, Contains("denoised 40 frames") && Contains("frames/s") && Contains("Hand_R"));
+  CHECK_THAT(r.output,
+             Contains("denoised 40 frames") && Contains("frames/s") && Contains("Hand_R"));
   REQUIRE(Motionfork(base + " -o " + dir.file("b.csv")).status == 0);
   const Motion a = ReadMotionFile(dir.file("a.csv")), b = ReadMotionFile(dir.file("b.csv"));
   CHECK(a.num_frames() == 40);
@@ -65,21 +66,24 @@ TEST_CASE("denoise: writes a denoised file of the same length, deterministic, an
                  " --skeleton bandai --add-noise jitter:0.05 -o " + dir.file("d.csv"));
   INFO(r.output);
   CHECK(r.status == 0);
-  CHECK_THAT(r.output, Contains("added jitter:0.05 noise") && Contains("against the file before --add-noise: noisy"));
+  CHECK_THAT(r.output, Contains("added jitter:0.05 noise") &&
+                           Contains("against the file before --add-noise: noisy"));
 }
 
 TEST_CASE("denoise: bad input is refused with the file named and nothing written") {
   const Models& models = SharedModels();
   testing::TempDir dir;
   WriteCsvMotion(dir.file("walk.csv"), testing::MakeWalkingMotion(20));
-  const std::string base = "denoise --model " + models.denoiser + " --motion " + dir.file("walk.csv") + " --skeleton bandai";
+  const std::string base = "denoise --model " + models.denoiser + " --motion " +
+                           dir.file("walk.csv") + " --skeleton bandai";
   Run r = Motionfork(base + " --add-noise gaussian:x -o " + dir.file("o.csv"));
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("--add-noise") && Contains("not a number"));
   r = Motionfork("denoise --model " + models.denoiser + " --motion " + dir.file("walk.csv") +
                  " --skeleton bandai --mode magic -o " + dir.file("o.csv"));
   CHECK(r.status != 0);
-  r = Motionfork("denoise --model " + dir.path().string() + " --motion " + dir.file("walk.csv") + " -o " + dir.file("o.csv"));
+  r = Motionfork("denoise --model " + dir.path().string() + " --motion " + dir.file("walk.csv") +
+                 " -o " + dir.file("o.csv"));
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("dvae.yaml"));
   CHECK_FALSE(fs::exists(dir.file("o.csv")));
@@ -90,7 +94,8 @@ TEST_CASE("predict --denoise: the history is denoised before forecasting and the
   testing::TempDir dir;
   const Motion noisy = AddNoise(testing::TinyBundleHistory(12), ParseNoiseSpec("gaussian:0.03"), 2);
   WriteCsvMotion(dir.file("h.csv"), noisy);
-  const std::string base = "predict --model " + models.generator + " --history " + dir.file("h.csv") + " -k 4 --seed 1";
+  const std::string base =
+      "predict --model " + models.generator + " --history " + dir.file("h.csv") + " -k 4 --seed 1";
   Run r = Motionfork(base + " --denoise " + models.denoiser + " -o " + dir.file("d"));
   INFO(r.output);
   REQUIRE(r.status == 0);

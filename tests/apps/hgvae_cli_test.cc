@@ -1,7 +1,6 @@
 // motionfork impute / ood / hgvae sample / predict --impute end to end, on a tiny HG-VAE trained
 // in code (tests/imputation/tiny_hgvae.h) and the tiny generator bundle (tests/api/tiny_bundle.h).
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -44,7 +43,8 @@ const Models& SharedModels() {
 std::string WalkWithNaN(const testing::TempDir& dir, int frames = 12) {
   const Motion m = testing::TinyBundleHistory(frames);
   NpyArray a{{frames, 17, 3}, m.positions()};
-  for (int t = 3; t <= 6 && t < frames; ++t) a.data[(t * 17 + 13) * 3] = std::numeric_limits<float>::quiet_NaN();
+  for (int t = 3; t <= 6 && t < frames; ++t)
+    a.data[(t * 17 + 13) * 3] = std::numeric_limits<float>::quiet_NaN();
   const std::string path = dir.file("nan.npy");
   // WriteNpy refuses NaN: serialise finite values, then put the NaNs into the bytes.
   std::string bytes = SerializeNpy(NpyArray{a.shape, m.positions()});
@@ -60,8 +60,9 @@ TEST_CASE("impute: NaN values and --mask joints are filled, observed values kept
   const Models& models = SharedModels();
   testing::TempDir dir;
   const std::string in = WalkWithNaN(dir);
-  Run r = Motionfork("impute --model " + models.hgvae + " --motion " + in + " --skeleton bandai --fps 30 --mask " +
-                     "joints:Head@0-2 -o " + dir.file("out.npy"));
+  Run r = Motionfork("impute --model " + models.hgvae + " --motion " + in +
+                     " --skeleton bandai --fps 30 --mask " + "joints:Head@0-2 -o " +
+                     dir.file("out.npy"));
   INFO(r.output);
   REQUIRE(r.status == 0);
   CHECK_THAT(r.output, Contains("imputed 13 of 612 values"));
@@ -79,7 +80,8 @@ TEST_CASE("impute: bad masks and all-missing windows are refused with the file n
   const Models& models = SharedModels();
   testing::TempDir dir;
   WriteCsvMotion(dir.file("walk.csv"), testing::TinyBundleHistory(12));
-  const std::string base = "impute --model " + models.hgvae + " --motion " + dir.file("walk.csv") + " -o " + dir.file("o.csv");
+  const std::string base = "impute --model " + models.hgvae + " --motion " + dir.file("walk.csv") +
+                           " -o " + dir.file("o.csv");
   Run r = Motionfork(base + " --mask joints:Nose");
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("walk.csv") && Contains("Nose") && Contains("Hand_L"));
@@ -99,7 +101,8 @@ TEST_CASE("ood: scores every window, exit status 1 only when one is flagged") {
   const Models& models = SharedModels();
   testing::TempDir dir;
   WriteCsvMotion(dir.file("walk.csv"), testing::MakeWalkingMotion(15, 30.0, 101));
-  Run r = Motionfork("ood --model " + models.hgvae + " --motion " + dir.file("walk.csv") + " --json " + dir.file("s.json"));
+  Run r = Motionfork("ood --model " + models.hgvae + " --motion " + dir.file("walk.csv") +
+                     " --json " + dir.file("s.json"));
   INFO(r.output);
   CHECK(r.status == 0);
   CHECK_THAT(r.output, Contains("0 of 3 windows out of distribution"));
@@ -107,7 +110,8 @@ TEST_CASE("ood: scores every window, exit status 1 only when one is flagged") {
   // Bones three times as long: no such body in the training data.
   Motion walk = testing::MakeWalkingMotion(15, 30.0, 101);
   std::vector<float> p = walk.positions();
-  for (size_t i = 0; i < p.size(); ++i) p[i] = 3.0f * (p[i] - p[(i / 51) * 51 + i % 3]) + p[(i / 51) * 51 + i % 3];
+  for (size_t i = 0; i < p.size(); ++i)
+    p[i] = 3.0f * (p[i] - p[(i / 51) * 51 + i % 3]) + p[(i / 51) * 51 + i % 3];
   WriteCsvMotion(dir.file("giant.csv"), Motion(walk.skeleton_ptr(), 30, p));
   r = Motionfork("ood --model " + models.hgvae + " --motion " + dir.file("giant.csv"));
   CHECK(r.status == 1);
@@ -118,14 +122,16 @@ TEST_CASE("hgvae sample: writes motion windows, same seed same file") {
   const Models& models = SharedModels();
   testing::TempDir dir;
   for (const char* name : {"a.npy", "b.npy"}) {
-    Run r = Motionfork("hgvae sample --model " + models.hgvae + " -n 3 --seed 2 -o " + dir.file(name));
+    Run r =
+        Motionfork("hgvae sample --model " + models.hgvae + " -n 3 --seed 2 -o " + dir.file(name));
     INFO(r.output);
     REQUIRE(r.status == 0);
   }
   const NpyArray a = ReadNpy(dir.file("a.npy")), b = ReadNpy(dir.file("b.npy"));
   CHECK(a.shape == std::vector<int64_t>{15, 17, 3});
   CHECK(a.data == b.data);
-  Run r = Motionfork("hgvae sample --model " + models.hgvae + " --class walk -o " + dir.file("c.npy"));
+  Run r =
+      Motionfork("hgvae sample --model " + models.hgvae + " --class walk -o " + dir.file("c.npy"));
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("unconditional"));
 }
@@ -134,12 +140,13 @@ TEST_CASE("predict --impute: a history with missing values is imputed, then fore
   const Models& models = SharedModels();
   testing::TempDir dir;
   const std::string in = WalkWithNaN(dir, 8);  // history = frames 3..7: Hand_L x missing in 3..6
-  Run r = Motionfork("predict --model " + models.generator + " --history " + in + " --skeleton bandai --fps 30 -k 4 -o " +
-                     dir.file("p"));
+  Run r = Motionfork("predict --model " + models.generator + " --history " + in +
+                     " --skeleton bandai --fps 30 -k 4 -o " + dir.file("p"));
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("4 missing values") && Contains("--impute"));
-  r = Motionfork("predict --model " + models.generator + " --history " + in + " --skeleton bandai --fps 30 -k 4 --impute " +
-                 models.hgvae + " -o " + dir.file("p"));
+  r = Motionfork("predict --model " + models.generator + " --history " + in +
+                 " --skeleton bandai --fps 30 -k 4 --impute " + models.hgvae + " -o " +
+                 dir.file("p"));
   INFO(r.output);
   REQUIRE(r.status == 0);
   CHECK_THAT(r.output, Contains("imputed 4 missing history values"));
@@ -148,8 +155,8 @@ TEST_CASE("predict --impute: a history with missing values is imputed, then fore
   CHECK(p.imputation->missing_values == 4);
   for (float v : p.positions) CHECK(std::isfinite(v));
   // --mask without --impute is refused.
-  r = Motionfork("predict --model " + models.generator + " --history " + in + " --skeleton bandai -k 4 --mask joints:Head -o " +
-                 dir.file("q"));
+  r = Motionfork("predict --model " + models.generator + " --history " + in +
+                 " --skeleton bandai -k 4 --mask joints:Head -o " + dir.file("q"));
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("--mask needs --impute"));
 }

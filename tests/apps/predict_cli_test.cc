@@ -1,19 +1,18 @@
 // motionfork predict / export / synth end to end on a tiny bundle written in code (random weights,
 // Bandai skeleton) that carries the shipped Bandai constraint set and pose prior.
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <limits>
+#include <sstream>
 
 #include "api/tiny_bundle.h"
-#include "run_motionfork.h"
 #include "io/csv.h"
 #include "io/motion_file.h"
 #include "io/prediction_file.h"
+#include "run_motionfork.h"
 #include "test_support.h"
 #include "validity/pose_validator.h"
 
@@ -36,8 +35,8 @@ struct Fixture {
     WriteCsvMotion(history, testing::TinyBundleHistory(12));
   }
   Run Predict(const std::string& out, const std::string& extra = "") const {
-    return Motionfork("predict --model " + bundle + " --history " + history + " -k 6 -o " + dir.file(out) + " " +
-                      extra);
+    return Motionfork("predict --model " + bundle + " --history " + history + " -k 6 -o " +
+                      dir.file(out) + " " + extra);
   }
 };
 
@@ -77,7 +76,8 @@ TEST_CASE("predict writes K futures with per-sample validity, --fix shares a par
   // The JSON's figures are the validator's own, recomputed here from the written positions.
   const PoseValidator v = PoseValidator::FromBundle(f.bundle, a.skeleton, a.fps);
   for (int k = 0; k < a.k; ++k) {
-    const SampleValidity s = v.Score(a.sample(k) + static_cast<size_t>(a.t_his) * a.joints() * 3, a.t_pred);
+    const SampleValidity s =
+        v.Score(a.sample(k) + static_cast<size_t>(a.t_his) * a.joints() * 3, a.t_pred);
     CHECK(a.samples[k].violating_frames == s.violating_frames);
     CHECK(a.samples[k].valid == s.valid);
     REQUIRE(a.samples[k].prior_nll.has_value());
@@ -114,30 +114,32 @@ TEST_CASE("predict refuses bad input with the file named and writes nothing") {
   // history is the last 5, frames 7..11).
   auto with_nan = [&f](int frame, const std::string& name) {
     std::ifstream in(f.history);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), line, out;
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), line,
+        out;
     std::istringstream lines(text);
     int data_row = -1;
     while (std::getline(lines, line)) {
-      if (!line.empty() && line[0] != '#' && data_row++ == frame) line = "nan" + line.substr(line.find(','));
+      if (!line.empty() && line[0] != '#' && data_row++ == frame)
+        line = "nan" + line.substr(line.find(','));
       out += line + "\n";
     }
     std::ofstream(f.dir.file(name)) << out;
     return f.dir.file(name);
   };
-  Run r = Motionfork("predict --model " + f.bundle + " --history " + with_nan(9, "nan.csv") + " -k 4 -o " +
-                     f.dir.file("nan_out"));
+  Run r = Motionfork("predict --model " + f.bundle + " --history " + with_nan(9, "nan.csv") +
+                     " -k 4 -o " + f.dir.file("nan_out"));
   INFO(r.output);
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("nan.csv") && Contains("1 missing values") && Contains("--impute"));
   CHECK_FALSE(fs::exists(f.dir.file("nan_out.npy")));
   // A NaN in a frame the history does not use is no obstacle.
-  r = Motionfork("predict --model " + f.bundle + " --history " + with_nan(2, "early_nan.csv") + " -k 4 -o " +
-                 f.dir.file("early_out"));
+  r = Motionfork("predict --model " + f.bundle + " --history " + with_nan(2, "early_nan.csv") +
+                 " -k 4 -o " + f.dir.file("early_out"));
   CHECK(r.status == 0);
   // Too short: 3 frames for a 5-frame history.
   WriteCsvMotion(f.dir.file("short.csv"), testing::TinyBundleHistory(3));
-  r = Motionfork("predict --model " + f.bundle + " --history " + f.dir.file("short.csv") + " -k 4 -o " +
-                 f.dir.file("short_out"));
+  r = Motionfork("predict --model " + f.bundle + " --history " + f.dir.file("short.csv") +
+                 " -k 4 -o " + f.dir.file("short_out"));
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("short.csv"));
   // A part the skeleton does not have.
@@ -155,7 +157,8 @@ TEST_CASE("predict refuses bad input with the file named and writes nothing") {
 TEST_CASE("export writes each predicted sample as BVH that reads back to the prediction") {
   Fixture f;
   REQUIRE(f.Predict("p").status == 0);
-  Run r = Motionfork("export " + f.dir.file("p.json") + " -o " + f.dir.file("s.bvh") + " --lengths exact");
+  Run r = Motionfork("export " + f.dir.file("p.json") + " -o " + f.dir.file("s.bvh") +
+                     " --lengths exact");
   INFO(r.output);
   REQUIRE(r.status == 0);
   const Prediction p = ReadPrediction(f.dir.file("p.json"));
@@ -172,7 +175,8 @@ TEST_CASE("export writes each predicted sample as BVH that reads back to the pre
     CHECK(worst < 1e-3);  // metres: within 1 mm (exact lengths keep every position)
   }
   // One sample to one file; a sample that does not exist; a path that is not .bvh.
-  REQUIRE(Motionfork("export " + f.dir.file("p.npy") + " --sample 2 -o " + f.dir.file("two.bvh")).status == 0);
+  REQUIRE(Motionfork("export " + f.dir.file("p.npy") + " --sample 2 -o " + f.dir.file("two.bvh"))
+              .status == 0);
   CHECK(fs::exists(f.dir.file("two.bvh")));
   r = Motionfork("export " + f.dir.file("p.json") + " --sample 9 -o " + f.dir.file("nine.bvh"));
   CHECK(r.status == 2);

@@ -2,10 +2,8 @@
 // synthetic noise, through `motionfork dvae eval`. Skips without ../shared/data/bandai, fails
 // under CI=true.
 #include <catch2/catch.hpp>
-
-#include <nlohmann/json.hpp>
-
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "run_motionfork.h"
 #include "test_support.h"
@@ -26,8 +24,10 @@ TEST_CASE("shipped dvae: at 5 cm noise half the error is removed with a plausibl
   }
   testing::TempDir dir;
   Run r = Motionfork("-q dvae eval --model " + kModel + " --data " + data +
-                     " --clips 40 --optimisation-clips 2 --iterations 10 --noise gaussian:0.05 --noise gaussian:0.10"
-                     " --noise outliers:0.1,0.3 --noise jitter:0.05 --json " + dir.file("e.json"));
+                     " --clips 40 --optimisation-clips 2 --iterations 10 --noise gaussian:0.05 "
+                     "--noise gaussian:0.10"
+                     " --noise outliers:0.1,0.3 --noise jitter:0.05 --json " +
+                     dir.file("e.json"));
   INFO(r.output);
   REQUIRE(r.status == 0);
   std::ifstream in(dir.file("e.json"));

@@ -2,10 +2,8 @@
 // out-of-distribution detection on Bandai test windows, through `motionfork hgvae eval`. Skips
 // without ../shared/data/bandai, fails under CI=true.
 #include <catch2/catch.hpp>
-
-#include <nlohmann/json.hpp>
-
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "run_motionfork.h"
 #include "test_support.h"
@@ -18,7 +16,9 @@ namespace {
 const std::string kModel = std::string(MOTIONFORK_SOURCE_DIR) + "/models/bandai/hgvae";
 }  // namespace
 
-TEST_CASE("shipped hgvae: 100 ascent steps beat mean imputation by 70 percent, impossible bodies are flagged") {
+TEST_CASE(
+    "shipped hgvae: 100 ascent steps beat mean imputation by 70 percent, impossible bodies are "
+    "flagged") {
   const std::string data = testing::SharedDataDir("data/bandai");
   if (data.empty()) {
     WARN("SKIPPED: ../shared/data/bandai not found");
@@ -26,8 +26,8 @@ TEST_CASE("shipped hgvae: 100 ascent steps beat mean imputation by 70 percent, i
   }
   testing::TempDir dir;
   // The paper's 100-step setting (the bundle's default is 10 steps, for speed).
-  Run r = Motionfork("-q hgvae eval --model " + kModel + " --data " + data + " --windows 40 --steps 100 --json " +
-                     dir.file("e.json"));
+  Run r = Motionfork("-q hgvae eval --model " + kModel + " --data " + data +
+                     " --windows 40 --steps 100 --json " + dir.file("e.json"));
   INFO(r.output);
   REQUIRE(r.status == 0);
   std::ifstream in(dir.file("e.json"));

@@ -1,13 +1,11 @@
 // The shipped Bandai model (models/bandai), run as users run it: the demo's synthetic walk gives
 // valid, seed-determined futures with part control; on real test data it beats zero-velocity.
-#include <catch2/catch.hpp>
-
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "io/prediction_file.h"
@@ -43,10 +41,12 @@ nlohmann::json ReadJson(const std::string& path) {
 
 }  // namespace
 
-TEST_CASE("shipped model: valid futures of the synthetic walk, same seed same futures, fixed legs") {
+TEST_CASE(
+    "shipped model: valid futures of the synthetic walk, same seed same futures, fixed legs") {
   testing::TempDir dir;
   REQUIRE(Motionfork("synth walk --frames 30 -o " + dir.file("walk.csv")).status == 0);
-  const std::string common = "predict --model " + kModel + " --history " + dir.file("walk.csv") + " -k 50 ";
+  const std::string common =
+      "predict --model " + kModel + " --history " + dir.file("walk.csv") + " -k 50 ";
   Run r = Motionfork(common + "-o " + dir.file("a"));
   INFO(r.output);
   REQUIRE(r.status == 0);
@@ -65,7 +65,9 @@ TEST_CASE("shipped model: valid futures of the synthetic walk, same seed same fu
   for (const SampleValidity& s : legs.samples) CHECK(s.valid);
 }
 
-TEST_CASE("shipped model: on a sixth of the Bandai test split it beats zero-velocity, with almost no broken angle") {
+TEST_CASE(
+    "shipped model: on a sixth of the Bandai test split it beats zero-velocity, with almost no "
+    "broken angle") {
   const std::string data = testing::SharedDataDir("data/bandai");
   if (data.empty()) {
     WARN("SKIPPED: ../shared/data/bandai not found");
@@ -83,8 +85,8 @@ TEST_CASE("shipped model: on a sixth of the Bandai test split it beats zero-velo
     out << line << "\n";
   }
   out.close();
-  const std::string common = "-q eval --protocol bandai --data " + data + " --split-file " + dir.file("split.tsv") +
-                             " -k 50 --json ";
+  const std::string common = "-q eval --protocol bandai --data " + data + " --split-file " +
+                             dir.file("split.tsv") + " -k 50 --json ";
   Run r = Motionfork(common + dir.file("model.json") + " --model " + kModel);
   INFO(r.output);
   REQUIRE(r.status == 0);
@@ -100,5 +102,6 @@ TEST_CASE("shipped model: on a sixth of the Bandai test split it beats zero-velo
   // shipped since 2026-12-02 one predicted frame of the whole test split's 7.6 million stays
   // outside a range (on this sixth a rate of 0.000001: one frame of 1.3 million); the raw
   // network breaks 28% of them.
-  CHECK(m["angle_violation_rate"].get<double>() <= std::max(1e-5, 2 * z["angle_violation_rate_gt"].get<double>()));
+  CHECK(m["angle_violation_rate"].get<double>() <=
+        std::max(1e-5, 2 * z["angle_violation_rate_gt"].get<double>()));
 }

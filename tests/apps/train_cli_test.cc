@@ -3,7 +3,6 @@
 // (weights, config, the training config and split it records), the log, resuming, and that
 // `predict` takes the result.
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -57,18 +56,21 @@ training:
 
 }  // namespace
 
-TEST_CASE("train on a synthetic data folder: bundle with its training config and split, log, resume, predict") {
+TEST_CASE(
+    "train on a synthetic data folder: bundle with its training config and split, log, resume, "
+    "predict") {
   motionfork::testing::TempDir dir;
   const std::string data = dir.file("data"), out = dir.file("run"), config = dir.file("tiny.yaml");
   fs::create_directories(data);
   int heading = 0;
   for (const char* clip : {"walk_a", "walk_b", "walk_c"}) {
-    const Run r = Motionfork("synth walk --frames 160 --heading " + std::to_string(heading += 40) + " -o " + data +
-                             "/" + clip + ".bvh");
+    const Run r = Motionfork("synth walk --frames 160 --heading " + std::to_string(heading += 40) +
+                             " -o " + data + "/" + clip + ".bvh");
     REQUIRE(r.status == 0);
   }
   std::ofstream(data + "/split.tsv") << "train\twalk_a.bvh\ntrain\twalk_b.bvh\ntest\twalk_c.bvh\n";
-  std::ofstream(dir.file("split_ab.tsv")) << "train\twalk_a.bvh\ntest\twalk_b.bvh\ntest\twalk_c.bvh\n";
+  std::ofstream(dir.file("split_ab.tsv"))
+      << "train\twalk_a.bvh\ntest\twalk_b.bvh\ntest\twalk_c.bvh\n";
   std::ofstream(config) << "# the test's config\n" << kTinyConfig;
 
   Run r = Motionfork("-q train --config " + config + " --data " + data + " --split " +
@@ -81,14 +83,16 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
   // The recipe and the clips it saw travel with the weights.
   const std::string split_ab = dir.file("split_ab.tsv");
   const std::string recorded = ReadFileBytes(out + "/training.yaml");
-  CHECK_THAT(recorded, Contains("# --- the config file as read ---\n# the test's config\n" + std::string(kTinyConfig)));
+  CHECK_THAT(recorded, Contains("# --- the config file as read ---\n# the test's config\n" +
+                                std::string(kTinyConfig)));
   CHECK_THAT(recorded, Contains("# split: " + split_ab + "\n"));
   const std::string model = ReadFileBytes(out + "/model.yaml");
   CHECK_THAT(model, Contains("split: " + split_ab));
   CHECK_THAT(model, Contains("training_config: training.yaml"));
   CHECK_THAT(model, Contains("config: tiny-cli"));
 
-  const std::string same = "train --config " + config + " --data " + data + " --split " + split_ab + " --out " + out;
+  const std::string same =
+      "train --config " + config + " --data " + data + " --split " + split_ab + " --out " + out;
   auto log_rows = [&] {
     int rows = 0;
     std::ifstream log(out + "/log.csv");
@@ -110,12 +114,14 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
   std::ofstream(dir.file("other.yaml")) << other;
   std::ofstream(dir.file("tail.yaml")) << kTinyConfig;
   for (const std::string& cfg : {dir.file("other.yaml"), dir.file("tail.yaml")}) {
-    r = Motionfork("-q train --config " + cfg + " --data " + data + " --split " + split_ab + " --out " + out +
-                   " --epochs 3");
+    r = Motionfork("-q train --config " + cfg + " --data " + data + " --split " + split_ab +
+                   " --out " + out + " --epochs 3");
     CHECK(r.status == 2);
-    CHECK_THAT(r.output, Contains(out + "/training.yaml") && Contains("another config than now (" + cfg));
+    CHECK_THAT(r.output,
+               Contains(out + "/training.yaml") && Contains("another config than now (" + cfg));
   }
-  r = Motionfork("-q train --config " + config + " --data " + data + " --out " + out + " --epochs 3");
+  r = Motionfork("-q train --config " + config + " --data " + data + " --out " + out +
+                 " --epochs 3");
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("another split than now (the protocol's own)"));
   CHECK(log_rows() == 3);
@@ -137,7 +143,10 @@ TEST_CASE("train on a synthetic data folder: bundle with its training config and
                  " --epochs 1");
   INFO(r.output);
   REQUIRE(r.status == 0);
-  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/model.yaml"), Contains("split: the protocol's own"));
-  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"), Contains("# split: the protocol's own\n"));
-  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"), Contains("--epochs 1 on the command line"));
+  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/model.yaml"),
+             Contains("split: the protocol's own"));
+  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"),
+             Contains("# split: the protocol's own\n"));
+  CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"),
+             Contains("--epochs 1 on the command line"));
 }

@@ -1,9 +1,9 @@
-#include <catch2/catch.hpp>
+#include "config/protocol_config.h"
 
+#include <catch2/catch.hpp>
 #include <fstream>
 
 #include "config/config_paths.h"
-#include "config/protocol_config.h"
 #include "test_support.h"
 
 using namespace motionfork;
@@ -34,10 +34,10 @@ TEST_CASE("shipped protocols carry the published settings") {
   CHECK(e.min_length == 75);
   CHECK(e.train_subjects == std::vector<std::string>{"Train/S1", "Train/S2", "Train/S3"});
   CHECK(e.test_subjects == std::vector<std::string>{"Validate/S1", "Validate/S2", "Validate/S3"});
-  CHECK(e.drop_takes == std::vector<std::pair<std::string, std::string>>{
-                            {"Train/S3", "Walking 1 chunk0"},
-                            {"Train/S3", "Walking 1 chunk2"},
-                            {"Validate/S3", "Walking 1 chunk4"}});
+  CHECK(e.drop_takes ==
+        std::vector<std::pair<std::string, std::string>>{{"Train/S3", "Walking 1 chunk0"},
+                                                         {"Train/S3", "Walking 1 chunk2"},
+                                                         {"Validate/S3", "Walking 1 chunk4"}});
 
   const ProtocolOptions b = Shipped("bandai");
   CHECK(b.fps == 30);
@@ -54,10 +54,12 @@ TEST_CASE("protocol configs name the broken field") {
   const std::string path = dir.file("p.yaml");
   std::ofstream(path) << "name: p\nskeleton: bandai\nsource: {format: bvh}\nfps: 30\nt_his: 0\n"
                          "t_pred: 60\nsplit: {file: s.tsv}\n";
-  CHECK_THROWS_WITH(LoadProtocolConfig(path), Catch::Contains("p.yaml") && Catch::Contains("t_his = 0"));
+  CHECK_THROWS_WITH(LoadProtocolConfig(path),
+                    Catch::Contains("p.yaml") && Catch::Contains("t_his = 0"));
   std::ofstream(path) << "name: p\nskeleton: bandai\nsource: {format: c3d}\nfps: 30\nt_his: 1\n"
                          "t_pred: 60\n";
   CHECK_THROWS_WITH(LoadProtocolConfig(path), Catch::Contains("line 3") && Catch::Contains("c3d"));
   std::ofstream(path) << "name: p\nskeleton: bandai\nsource: {format: bvh}\nfps: fast\n";
-  CHECK_THROWS_WITH(LoadProtocolConfig(path), Catch::Contains("'fps'") && Catch::Contains("line 4"));
+  CHECK_THROWS_WITH(LoadProtocolConfig(path),
+                    Catch::Contains("'fps'") && Catch::Contains("line 4"));
 }

@@ -1,9 +1,9 @@
-#include <catch2/catch.hpp>
+#include "config/skeleton_config.h"
 
+#include <catch2/catch.hpp>
 #include <fstream>
 
 #include "config/config_paths.h"
-#include "config/skeleton_config.h"
 #include "core/error.h"
 #include "test_support.h"
 
@@ -29,9 +29,9 @@ std::vector<int> Range(int a, int b) {
 TEST_CASE("h36m: 32 -> 17 joints with the published parents and parts") {
   const SkeletonConfig c = Shipped("h36m");
   REQUIRE(c.source->num_joints() == 32);
-  CHECK(c.source->parents() == std::vector<int>{-1, 0, 1, 2, 3, 4, 0, 6, 7, 8, 9, 0, 11, 12, 13, 14,
-                                                 12, 16, 17, 18, 19, 20, 19, 22, 12, 24, 25, 26, 27,
-                                                 28, 27, 30});
+  CHECK(c.source->parents() == std::vector<int>{-1, 0,  1,  2,  3,  4,  0,  6,  7,  8,  9,
+                                                0,  11, 12, 13, 14, 12, 16, 17, 18, 19, 20,
+                                                19, 22, 12, 24, 25, 26, 27, 28, 27, 30});
   REQUIRE(c.selection);
   CHECK(c.selection->source_index ==
         std::vector<int>{0, 1, 2, 3, 6, 7, 8, 12, 13, 14, 15, 17, 18, 19, 25, 26, 27});
@@ -48,7 +48,8 @@ TEST_CASE("h36m: 32 -> 17 joints with the published parents and parts") {
   CHECK(RootRemoved(five.parts[3]) == Range(10, 12));
   CHECK(RootRemoved(five.parts[4]) == Range(13, 15));
   // VideoPose3D's joints_left / joints_right for the 17-joint skeleton.
-  for (auto [l, r] : std::vector<std::pair<int, int>>{{4, 1}, {5, 2}, {6, 3}, {11, 14}, {12, 15}, {13, 16}}) {
+  for (auto [l, r] :
+       std::vector<std::pair<int, int>>{{4, 1}, {5, 2}, {6, 3}, {11, 14}, {12, 15}, {13, 16}}) {
     CHECK(c.skeleton->Mirror(l) == r);
   }
 }
@@ -62,7 +63,8 @@ TEST_CASE("humaneva: 15 joints with the published parents and parts") {
   std::vector<int> upper = Range(0, 6);
   upper.push_back(13);
   CHECK(RootRemoved(p.parts[1]) == upper);
-  for (auto [l, r] : std::vector<std::pair<int, int>>{{2, 5}, {3, 6}, {4, 7}, {8, 11}, {9, 12}, {10, 13}}) {
+  for (auto [l, r] :
+       std::vector<std::pair<int, int>>{{2, 5}, {3, 6}, {4, 7}, {8, 11}, {9, 12}, {10, 13}}) {
     CHECK(c.skeleton->Mirror(l) == r);
   }
 }
@@ -80,17 +82,12 @@ TEST_CASE("bandai: 22 -> 17 joints mirroring the H36M layout") {
 TEST_CASE("skeleton configs report YAML and structure problems with file and line") {
   testing::TempDir dir;
   const std::string path = dir.file("bad.yaml");
-  {
-    std::ofstream(path) << "name: bad\njoints:\n  - [a, ~]\n  - [b, c]\n";
-  }
-  CHECK_THROWS_WITH(LoadSkeletonConfig(path), Catch::Contains("bad.yaml") && Catch::Contains("unknown parent 'c'"));
-  {
-    std::ofstream(path) << "name: bad\njoints:\n  - [a, ~]\n  - b\n";
-  }
+  { std::ofstream(path) << "name: bad\njoints:\n  - [a, ~]\n  - [b, c]\n"; }
+  CHECK_THROWS_WITH(LoadSkeletonConfig(path),
+                    Catch::Contains("bad.yaml") && Catch::Contains("unknown parent 'c'"));
+  { std::ofstream(path) << "name: bad\njoints:\n  - [a, ~]\n  - b\n"; }
   CHECK_THROWS_WITH(LoadSkeletonConfig(path), Catch::Contains("bad.yaml:line 4"));
-  {
-    std::ofstream(path) << "name: [unclosed\n";
-  }
+  { std::ofstream(path) << "name: [unclosed\n"; }
   CHECK_THROWS_AS(LoadSkeletonConfig(path), FormatError);
   CHECK_THROWS_WITH(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "nope"),
                     Catch::Contains("bandai") && Catch::Contains("h36m"));
@@ -109,8 +106,8 @@ TEST_CASE("motions from files are conformed to a config's skeleton by names or b
   rev.reparent = {{"Neck", "Chest"}, {"Head", "Chest"}};
   // (partial skeletons lack joints: must fail naming them)
   const Motion partial = ApplySelection(m, SelectJoints(m.skeleton(), rev));
-  CHECK_THROWS_WITH(ConformToSkeleton(partial, bandai), Catch::Contains("lacks joints") &&
-                                                            Catch::Contains("Hand_R"));
+  CHECK_THROWS_WITH(ConformToSkeleton(partial, bandai),
+                    Catch::Contains("lacks joints") && Catch::Contains("Hand_R"));
   const Motion same = ConformToSkeleton(m, bandai);
   CHECK(same.skeleton().SameStructure(*bandai.skeleton));
   CHECK(same.positions() == m.positions());

@@ -1,9 +1,8 @@
-#include <catch2/catch.hpp>
+#include "core/dct.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
-
-#include "core/dct.h"
 
 using namespace motionfork;
 
@@ -37,7 +36,7 @@ TEST_CASE("DCT then inverse DCT returns the trajectory to 1e-5") {
 TEST_CASE("truncated DCT keeps smooth trajectories and drops high frequencies") {
   Eigen::MatrixXf x(75, 3);
   for (int t = 0; t < 75; ++t) {
-    x(t, 0) = 0.3f;                                        // constant: one coefficient
+    x(t, 0) = 0.3f;                                       // constant: one coefficient
     x(t, 1) = std::cos(M_PI / 150.0 * (2 * t + 1) * 4);   // exactly basis 4
     x(t, 2) = std::cos(M_PI / 150.0 * (2 * t + 1) * 40);  // basis 40: removed by truncation
   }

@@ -1,8 +1,8 @@
-#include <catch2/catch.hpp>
+#include "core/limbs.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/limbs.h"
 #include "test_support.h"
 
 using namespace motionfork;

@@ -1,10 +1,10 @@
-#include <catch2/catch.hpp>
+#include "core/motion.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
 
 #include "core/joint_selection.h"
-#include "core/motion.h"
 #include "core/resample.h"
 #include "test_support.h"
 

@@ -1,6 +1,7 @@
+#include "core/skeleton.h"
+
 #include <catch2/catch.hpp>
 
-#include "core/skeleton.h"
 #include "test_support.h"
 
 using namespace motionfork;
@@ -13,7 +14,8 @@ TEST_CASE("skeleton builds from names, looks joints up and mirrors pairs") {
   CHECK(s->Mirror(s->Index("Hand_L")) == s->Index("Hand_R"));
   CHECK(s->Mirror(s->Index("Head")) == s->Index("Head"));
   CHECK_FALSE(s->Find("Tail"));
-  CHECK_THROWS_WITH(s->Index("Tail"), Catch::Contains("no joint 'Tail'") && Catch::Contains("Hips"));
+  CHECK_THROWS_WITH(s->Index("Tail"),
+                    Catch::Contains("no joint 'Tail'") && Catch::Contains("Hips"));
 }
 
 TEST_CASE("skeleton partitions resolve subtrees and rest, and must cover every joint") {
@@ -29,16 +31,18 @@ TEST_CASE("skeleton partitions resolve subtrees and rest, and must cover every j
   spec.parent_names = {"", "root", "a"};
   spec.partitions = {PartitionSpec{"bad", {PartSpec{"p", {"a"}, {}, false}}}};
   CHECK_THROWS_WITH(Skeleton::Build(spec), Catch::Contains("missing: b"));
-  spec.partitions = {PartitionSpec{"bad", {PartSpec{"p", {"a", "b"}, {}, false},
-                                           PartSpec{"q", {"b"}, {}, false}}}};
+  spec.partitions = {PartitionSpec{
+      "bad", {PartSpec{"p", {"a", "b"}, {}, false}, PartSpec{"q", {"b"}, {}, false}}}};
   CHECK_THROWS_WITH(Skeleton::Build(spec), Catch::Contains("'b' is in parts 'p' and 'q'"));
 }
 
 TEST_CASE("skeleton validation names the offending joint") {
   CHECK_THROWS_WITH(Skeleton::FromParents("x", {"a", "b"}, {-1, 1}),
                     Catch::Contains("'b'") && Catch::Contains("parent listed before it"));
-  CHECK_THROWS_WITH(Skeleton::FromParents("x", {"a", "a"}, {-1, 0}), Catch::Contains("appears twice"));
-  CHECK_THROWS_WITH(Skeleton::FromParents("x", {"a", "b"}, {0, 0}), Catch::Contains("must be the root"));
+  CHECK_THROWS_WITH(Skeleton::FromParents("x", {"a", "a"}, {-1, 0}),
+                    Catch::Contains("appears twice"));
+  CHECK_THROWS_WITH(Skeleton::FromParents("x", {"a", "b"}, {0, 0}),
+                    Catch::Contains("must be the root"));
   CHECK_THROWS_WITH(Skeleton::FromParents("x", {"a", "b"}, {-1, -1}),
                     Catch::Contains("only the first joint may be a root"));
   CHECK_THROWS_WITH(Skeleton::FromParents("x", {}, {}), Catch::Contains("at least one joint"));

@@ -1,6 +1,5 @@
 // The Bandai protocol on the real data in ../shared/data/bandai (read from the archives in place).
 #include <catch2/catch.hpp>
-
 #include <chrono>
 
 #include "config/config_paths.h"
@@ -60,12 +59,14 @@ TEST_CASE("bandai real data: 174 + 2,549 clips, 2,409 train / 314 test, cache ro
 
   const auto t0 = std::chrono::steady_clock::now();
   const Dataset again = LoadDataset(p, s, data, opts);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   CHECK(again.from_cache);
   REQUIRE(again.clips.size() == ds.clips.size());
   for (size_t i = 0; i < ds.clips.size(); i += 97) {
     CHECK(again.clips[i].motion.positions() == ds.clips[i].motion.positions());
   }
   WARN("cold load " << ds.seconds_reading << " s, cached load " << seconds << " s, "
-                    << ds.clips.size() << " usable clips, " << short_clips << " shorter than 75 frames");
+                    << ds.clips.size() << " usable clips, " << short_clips
+                    << " shorter than 75 frames");
 }

@@ -1,16 +1,16 @@
 // Dataset loading on synthetic data written in code: VideoPose3D-style manifests (H36M,
 // HumanEva-I layouts) and Bandai-style BVH folders with a split file.
-#include <catch2/catch.hpp>
+#include "dataset/dataset.h"
 
+#include <catch2/catch.hpp>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
-#include "dataset/dataset.h"
 #include "dataset/windows.h"
 #include "io/npy.h"
 #include "test_support.h"
@@ -43,7 +43,8 @@ void WriteTake(const fs::path& dir, std::ostream& manifest, const std::string& s
   const std::string rel = subject + "/" + action + ".npy";
   fs::create_directories(dir / subject);
   WriteNpy((dir / rel).string(), a);
-  manifest << subject << '\t' << action << '\t' << T << '\t' << J << '\t' << fps << '\t' << rel << '\n';
+  manifest << subject << '\t' << action << '\t' << T << '\t' << J << '\t' << fps << '\t' << rel
+           << '\n';
 }
 
 }  // namespace
@@ -70,8 +71,8 @@ TEST_CASE("h36m protocol on a synthetic VideoPose3D export: split, joints, windo
   const Dataset ds = LoadDataset(p, SkeletonOf(p), dir.path().string());
   CHECK(ds.ClipIndices(Split::kTrain).size() == static_cast<size_t>(expect_train_clips));
   const auto test = ds.ClipIndices(Split::kTest);
-  const auto windows = SlidingWindows(ds.ClipFrames(test), p.window_length(), p.test_stride,
-                                      p.test_include_last);
+  const auto windows =
+      SlidingWindows(ds.ClipFrames(test), p.window_length(), p.test_stride, p.test_include_last);
   CHECK(windows.size() == static_cast<size_t>(expect_test_windows));
   for (const Clip& c : ds.clips) {
     REQUIRE(c.motion.num_joints() == 17);
@@ -89,9 +90,11 @@ TEST_CASE("humaneva protocol drops the three bad takes and short sequences") {
   testing::TempDir dir;
   std::ofstream manifest(dir.file("manifest.tsv"));
   manifest << "subject\taction\tframes\tjoints\tfps\tfile\n";
-  for (const char* s : {"Train/S1", "Train/S2", "Train/S3", "Validate/S1", "Validate/S2", "Validate/S3"}) {
+  for (const char* s :
+       {"Train/S1", "Train/S2", "Train/S3", "Validate/S1", "Validate/S2", "Validate/S3"}) {
     for (int c = 0; c < 5; ++c) {
-      WriteTake(dir.path(), manifest, s, "Walking 1 chunk" + std::to_string(c), 70 + 10 * c, 15, 60);
+      WriteTake(dir.path(), manifest, s, "Walking 1 chunk" + std::to_string(c), 70 + 10 * c, 15,
+                60);
     }
   }
   manifest.close();
@@ -103,10 +106,12 @@ TEST_CASE("humaneva protocol drops the three bad takes and short sequences") {
     short_ones += s.reason.rfind("shorter than 75", 0) == 0;
   }
   CHECK(dropped == 3);
-  CHECK(short_ones == 5);  // chunk0 (70 frames) of every subject but Train/S3, whose chunk0 is dropped
+  CHECK(short_ones ==
+        5);  // chunk0 (70 frames) of every subject but Train/S3, whose chunk0 is dropped
   CHECK(ds.clips.size() == 30 - 3 - 5);
   for (const Clip& c : ds.clips) {
-    CHECK_FALSE((c.subject == "Train/S3" && (c.action == "Walking 1 chunk0" || c.action == "Walking 1 chunk2")));
+    CHECK_FALSE((c.subject == "Train/S3" &&
+                 (c.action == "Walking 1 chunk0" || c.action == "Walking 1 chunk2")));
     CHECK_FALSE((c.subject == "Validate/S3" && c.action == "Walking 1 chunk4"));
   }
 }
@@ -115,15 +120,28 @@ namespace {
 // A Bandai-like BVH: the 22 Bandai joints, 6 channels each, identity rotations, the given
 // number of frames; joint_Root translates along Z with time.
 std::string BandaiLikeBvh(int frames) {
-  const std::vector<std::pair<std::string, std::string>> joints = {
-      {"joint_Root", ""},         {"Hips", "joint_Root"},     {"Spine", "Hips"},
-      {"Chest", "Spine"},         {"Neck", "Chest"},          {"Head", "Neck"},
-      {"Shoulder_L", "Chest"},    {"UpperArm_L", "Shoulder_L"}, {"LowerArm_L", "UpperArm_L"},
-      {"Hand_L", "LowerArm_L"},   {"Shoulder_R", "Chest"},    {"UpperArm_R", "Shoulder_R"},
-      {"LowerArm_R", "UpperArm_R"}, {"Hand_R", "LowerArm_R"}, {"UpperLeg_L", "Hips"},
-      {"LowerLeg_L", "UpperLeg_L"}, {"Foot_L", "LowerLeg_L"},  {"Toes_L", "Foot_L"},
-      {"UpperLeg_R", "Hips"},     {"LowerLeg_R", "UpperLeg_R"}, {"Foot_R", "LowerLeg_R"},
-      {"Toes_R", "Foot_R"}};
+  const std::vector<std::pair<std::string, std::string>> joints = {{"joint_Root", ""},
+                                                                   {"Hips", "joint_Root"},
+                                                                   {"Spine", "Hips"},
+                                                                   {"Chest", "Spine"},
+                                                                   {"Neck", "Chest"},
+                                                                   {"Head", "Neck"},
+                                                                   {"Shoulder_L", "Chest"},
+                                                                   {"UpperArm_L", "Shoulder_L"},
+                                                                   {"LowerArm_L", "UpperArm_L"},
+                                                                   {"Hand_L", "LowerArm_L"},
+                                                                   {"Shoulder_R", "Chest"},
+                                                                   {"UpperArm_R", "Shoulder_R"},
+                                                                   {"LowerArm_R", "UpperArm_R"},
+                                                                   {"Hand_R", "LowerArm_R"},
+                                                                   {"UpperLeg_L", "Hips"},
+                                                                   {"LowerLeg_L", "UpperLeg_L"},
+                                                                   {"Foot_L", "LowerLeg_L"},
+                                                                   {"Toes_L", "Foot_L"},
+                                                                   {"UpperLeg_R", "Hips"},
+                                                                   {"LowerLeg_R", "UpperLeg_R"},
+                                                                   {"Foot_R", "LowerLeg_R"},
+                                                                   {"Toes_R", "Foot_R"}};
   std::ostringstream s;
   s << "HIERARCHY\n";
   std::function<void(int, int)> emit = [&](int j, int depth) {
@@ -138,7 +156,8 @@ std::string BandaiLikeBvh(int frames) {
         child = true;
       }
     }
-    if (!child) s << pad << "  End Site\n" << pad << "  {\n" << pad << "    OFFSET 0 1 0\n" << pad << "  }\n";
+    if (!child)
+      s << pad << "  End Site\n" << pad << "  {\n" << pad << "    OFFSET 0 1 0\n" << pad << "  }\n";
     s << pad << "}\n";
   };
   emit(0, 0);
@@ -158,14 +177,17 @@ TEST_CASE("bandai protocol on a synthetic BVH folder: split file, labels, min le
   testing::TempDir dir, cache;
   fs::create_directories(dir.path() / "pack");
   const std::vector<std::pair<std::string, int>> clips = {
-      {"dataset-2_walk_normal_001", 100}, {"dataset-2_run_elderly_002", 80},
-      {"dataset-2_walk-turn-left_active_003", 60}, {"dataset-1_bow_happy_004", 75},
+      {"dataset-2_walk_normal_001", 100},
+      {"dataset-2_run_elderly_002", 80},
+      {"dataset-2_walk-turn-left_active_003", 60},
+      {"dataset-1_bow_happy_004", 75},
       {"dataset-2_walk_normal_099", 90}};
   for (const auto& [name, frames] : clips) {
     std::ofstream((dir.path() / "pack" / (name + ".bvh")).string()) << BandaiLikeBvh(frames);
   }
   std::ofstream(dir.file("split.tsv"))
-      << "# split\tclip\ntrain\tdataset-2_walk_normal_001.bvh\ntest\tdataset-2_run_elderly_002.bvh\n"
+      << "# "
+         "split\tclip\ntrain\tdataset-2_walk_normal_001.bvh\ntest\tdataset-2_run_elderly_002.bvh\n"
          "train\tdataset-2_walk-turn-left_active_003.bvh\ntrain\tdataset-1_bow_happy_004.bvh\n"
          "test\tdataset-2_missing_elderly_005.bvh\n";
   const ProtocolOptions p = Protocol("bandai");
@@ -202,16 +224,20 @@ TEST_CASE("bandai protocol on a synthetic BVH folder: split file, labels, min le
     CHECK(second.clips[i].motion.positions() == first.clips[i].motion.positions());
   }
   // Touching a source file invalidates the cache.
-  std::ofstream((dir.path() / "pack" / "dataset-2_walk_normal_099.bvh").string()) << BandaiLikeBvh(91);
+  std::ofstream((dir.path() / "pack" / "dataset-2_walk_normal_099.bvh").string())
+      << BandaiLikeBvh(91);
   CHECK_FALSE(LoadDataset(p, SkeletonOf(p), dir.path().string(), opts).from_cache);
 }
 
 TEST_CASE("dataset loading explains empty or wrong data folders") {
   testing::TempDir dir;
   const ProtocolOptions b = Protocol("bandai");
-  CHECK_THROWS_WITH(LoadDataset(b, SkeletonOf(b), dir.path().string()), Catch::Contains("no .bvh files"));
+  CHECK_THROWS_WITH(LoadDataset(b, SkeletonOf(b), dir.path().string()),
+                    Catch::Contains("no .bvh files"));
   const ProtocolOptions h = Protocol("h36m");
-  CHECK_THROWS_WITH(LoadDataset(h, SkeletonOf(h), dir.path().string()),
-                    Catch::Contains("manifest.tsv") && Catch::Contains("videopose3d_to_motionfork.py"));
-  CHECK_THROWS_WITH(LoadDataset(h, SkeletonOf(h), dir.file("nope")), Catch::Contains("does not exist"));
+  CHECK_THROWS_WITH(
+      LoadDataset(h, SkeletonOf(h), dir.path().string()),
+      Catch::Contains("manifest.tsv") && Catch::Contains("videopose3d_to_motionfork.py"));
+  CHECK_THROWS_WITH(LoadDataset(h, SkeletonOf(h), dir.file("nope")),
+                    Catch::Contains("does not exist"));
 }

@@ -1,8 +1,7 @@
-#include <catch2/catch.hpp>
-
-#include <map>
-
 #include "dataset/windows.h"
+
+#include <catch2/catch.hpp>
+#include <map>
 
 using namespace motionfork;
 

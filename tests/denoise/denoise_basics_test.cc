@@ -1,6 +1,5 @@
 // Motion corruptions, windows and figures of the denoising module (no LibTorch).
 #include <catch2/catch.hpp>
-
 #include <cmath>
 #include <random>
 
@@ -21,7 +20,8 @@ TEST_CASE("noise specs parse and bad ones name the expected forms") {
   CHECK(o.rate == Approx(0.1));
   CHECK(o.sigma == Approx(0.3));
   CHECK(ParseNoiseSpec("jitter:0.02").kind == NoiseSpec::Kind::kJitter);
-  CHECK_THROWS_WITH(ParseNoiseSpec("gauss:0.1"), Contains("unknown kind") && Contains("gaussian:S"));
+  CHECK_THROWS_WITH(ParseNoiseSpec("gauss:0.1"),
+                    Contains("unknown kind") && Contains("gaussian:S"));
   CHECK_THROWS_WITH(ParseNoiseSpec("gaussian"), Contains("no ':'"));
   CHECK_THROWS_WITH(ParseNoiseSpec("gaussian:abc"), Contains("not a number"));
   CHECK_THROWS_WITH(ParseNoiseSpec("outliers:1.5,0.1"), Contains("P must be in [0, 1]"));
@@ -34,7 +34,8 @@ TEST_CASE("noise kinds have the documented statistics") {
   SECTION("gaussian: every value, standard deviation S") {
     const Motion n = AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 1);
     double sq = 0;
-    for (size_t i = 0; i < n.positions().size(); ++i) sq += std::pow(n.positions()[i] - clean.positions()[i], 2);
+    for (size_t i = 0; i < n.positions().size(); ++i)
+      sq += std::pow(n.positions()[i] - clean.positions()[i], 2);
     CHECK(std::sqrt(sq / n.positions().size()) == Approx(0.05).epsilon(0.03));
   }
   SECTION("jitter: one offset per frame, shared by every joint") {
@@ -42,7 +43,8 @@ TEST_CASE("noise kinds have the documented statistics") {
     for (int t = 0; t < 10; ++t) {
       const float d0 = n.at(t, 0)[1] - clean.at(t, 0)[1];
       CHECK(d0 != 0.0f);
-      for (int j = 1; j < J; ++j) CHECK(n.at(t, j)[1] - clean.at(t, j)[1] == Approx(d0).margin(1e-5));
+      for (int j = 1; j < J; ++j)
+        CHECK(n.at(t, j)[1] - clean.at(t, j)[1] == Approx(d0).margin(1e-5));
     }
   }
   SECTION("outliers: about P of the joints move, the rest stay") {
@@ -71,12 +73,14 @@ TEST_CASE("windows cover every frame and blending unchanged windows gives the se
       CHECK(c.length == 30);
       for (int t = c.start; t < c.start + c.length; ++t) covered_100[t] = 1;
     }
-    if (c.sequence == 2) CHECK(c.length == 7);  // shorter than the window: one window of its own length
+    if (c.sequence == 2)
+      CHECK(c.length == 7);  // shorter than the window: one window of its own length
   }
   for (int v : covered_100) CHECK(v == 1);
   CHECK_THROWS_WITH(CutWindows({1}, 30, 15), Contains("at least 2 frames"));
 
-  const Motion a = testing::MakeWalkingMotion(100, 30, 1), b = testing::MakeWalkingMotion(31, 30, 2);
+  const Motion a = testing::MakeWalkingMotion(100, 30, 1),
+               b = testing::MakeWalkingMotion(31, 30, 2);
   std::vector<std::vector<float>> seqs = {a.positions(), b.positions()};
   const int J = a.num_joints();
   std::vector<WindowCut> cut = CutWindows({100, 31}, 30, 15);
@@ -89,7 +93,8 @@ TEST_CASE("windows cover every frame and blending unchanged windows gives the se
   const auto back = BlendWindows(cut, values, {100, 31}, J);
   for (size_t s = 0; s < seqs.size(); ++s) {
     REQUIRE(back[s].size() == seqs[s].size());
-    for (size_t i = 0; i < seqs[s].size(); ++i) CHECK(back[s][i] == Approx(seqs[s][i]).margin(1e-5));
+    for (size_t i = 0; i < seqs[s].size(); ++i)
+      CHECK(back[s][i] == Approx(seqs[s][i]).margin(1e-5));
   }
 }
 
@@ -110,7 +115,8 @@ TEST_CASE("denoising figures: error, acceleration and the smoothing baseline") {
   // |a| at frames 9, 10, 11: 1, 2, 1 cm -> (4 cm) * 30^2 / ((T - 2) * J)
   CHECK(MeanAcceleration(bumped, J, 30) == Approx(0.04 * 900 / (18 * 2)).epsilon(1e-3));
   const std::vector<float> smooth = GaussianSmooth(line, J, 2.0);
-  for (int t = 6; t < T - 6; ++t) CHECK(smooth[t * J * 3] == Approx(line[t * J * 3]).margin(1e-5));  // 3 sigma from the edges
+  for (int t = 6; t < T - 6; ++t)
+    CHECK(smooth[t * J * 3] == Approx(line[t * J * 3]).margin(1e-5));  // 3 sigma from the edges
   const std::vector<float> smoothed_bump = GaussianSmooth(bumped, J, 2.0);
   CHECK(std::abs(smoothed_bump[(10 * J) * 3 + 2]) < 0.005);
 }

@@ -1,10 +1,10 @@
 // Motion-DVAE configs and bundle manifests.
-#include <catch2/catch.hpp>
+#include "config/dvae_config.h"
 
+#include <catch2/catch.hpp>
 #include <fstream>
 
 #include "config/config_paths.h"
-#include "config/dvae_config.h"
 #include "core/error.h"
 #include "test_support.h"
 
@@ -12,32 +12,39 @@ using namespace motionfork;
 using Catch::Contains;
 
 TEST_CASE("the shipped dvae_bandai config parses with the paper's latent size") {
-  const DvaeTrainConfig c = LoadDvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/dvae_bandai.yaml");
+  const DvaeTrainConfig c =
+      LoadDvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/dvae_bandai.yaml");
   CHECK(c.protocol == "bandai");
   CHECK(c.model.window == 30);
   CHECK(c.model.latent == 48);
   CHECK(c.model.groups == 16);
   CHECK(c.finetune.noise.size() >= 3);
-  const DvaeTrainConfig r = LoadDvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/dvae_reference.yaml");
+  const DvaeTrainConfig r =
+      LoadDvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/dvae_reference.yaml");
   CHECK(r.model.hidden == 1024);
   CHECK(r.training.epochs == 200);
   CHECK(r.training.batch_size == 64);
 }
 
-TEST_CASE("dvae configs: missing keys take defaults, unknown keys and bad values are errors naming the file") {
+TEST_CASE(
+    "dvae configs: missing keys take defaults, unknown keys and bad values are errors naming the "
+    "file") {
   const DvaeTrainConfig c = ParseDvaeTrainConfig("protocol: bandai\n", "cfg.yaml");
   CHECK(c.model.hidden == 1024);
   CHECK(c.denoise.mode == DenoiseMode::kRegression);
   CHECK_THROWS_WITH(ParseDvaeTrainConfig("protocol: bandai\nmodel:\n  hiden: 3\n", "cfg.yaml"),
                     Contains("cfg.yaml") && Contains("hiden"));
-  CHECK_THROWS_WITH(ParseDvaeTrainConfig("protocol: bandai\nmodel:\n  mlp_hidden: 30\n  groups: 16\n", "cfg.yaml"),
+  CHECK_THROWS_WITH(ParseDvaeTrainConfig(
+                        "protocol: bandai\nmodel:\n  mlp_hidden: 30\n  groups: 16\n", "cfg.yaml"),
                     Contains("multiple of groups"));
-  CHECK_THROWS_WITH(ParseDvaeTrainConfig("protocol: bandai\nfinetune:\n  noise: [gaussian:x]\n", "cfg.yaml"),
-                    Contains("cfg.yaml") && Contains("not a number"));
+  CHECK_THROWS_WITH(
+      ParseDvaeTrainConfig("protocol: bandai\nfinetune:\n  noise: [gaussian:x]\n", "cfg.yaml"),
+      Contains("cfg.yaml") && Contains("not a number"));
   CHECK_THROWS_WITH(ParseDvaeTrainConfig("protocol: bandai\ndenoise:\n  mode: magic\n", "cfg.yaml"),
                     Contains("regression"));
-  CHECK_THROWS_WITH(ParseDvaeTrainConfig("protocol: bandai\nnoise_prior:\n  scale: 0\n", "cfg.yaml"),
-                    Contains("scale > 0"));
+  CHECK_THROWS_WITH(
+      ParseDvaeTrainConfig("protocol: bandai\nnoise_prior:\n  scale: 0\n", "cfg.yaml"),
+      Contains("scale > 0"));
 }
 
 TEST_CASE("dvae manifests round-trip exactly") {
@@ -59,17 +66,13 @@ TEST_CASE("dvae manifests round-trip exactly") {
   m.info = {{"config", "x"}};
   testing::TempDir dir;
   const std::string path = dir.file("dvae.yaml");
-  {
-    std::ofstream(path) << FormatDvaeManifest(m);
-  }
+  { std::ofstream(path) << FormatDvaeManifest(m); }
   const DvaeManifest b = LoadDvaeManifest(path);
   CHECK(FormatDvaeManifest(b) == FormatDvaeManifest(m));
   CHECK(b.mean == m.mean);
   CHECK(b.finetune_noise == m.finetune_noise);
   CHECK(b.denoise.mode == DenoiseMode::kOptimisation);
   CHECK_FALSE(b.denoise.fuse);
-  {
-    std::ofstream(path) << "format: motionfork-dvae-0\n";
-  }
+  { std::ofstream(path) << "format: motionfork-dvae-0\n"; }
   CHECK_THROWS_WITH(LoadDvaeManifest(path), Contains("dvae.yaml") && Contains("motionfork-dvae-1"));
 }

@@ -1,5 +1,5 @@
 // Training, fine-tuning, bundles and denoising on a tiny Motion-DVAE trained in code.
-#include "torch_catch.h"
+#include "denoise/dvae_model.h"
 
 #include <cmath>
 #include <filesystem>
@@ -10,10 +10,10 @@
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_bundle.h"
-#include "denoise/dvae_model.h"
 #include "io/file_util.h"
 #include "test_support.h"
 #include "tiny_dvae.h"
+#include "torch_catch.h"
 
 using namespace motionfork;
 using Catch::Contains;
@@ -100,13 +100,16 @@ TEST_CASE("dvae training and fine-tuning resume exactly where they stopped") {
   FinetuneDvae(cfg, tmp.file("a"), data, tmp.file("fa"), {});
   FinetuneDvae(cfg, tmp.file("a"), data, tmp.file("fb"), {}, 1);
   FinetuneDvae(cfg, tmp.file("a"), data, tmp.file("fb"), {});
-  CHECK(Column(tmp.file("fa") + "/log.csv", "held_out_loss") == Column(tmp.file("fb") + "/log.csv", "held_out_loss"));
+  CHECK(Column(tmp.file("fa") + "/log.csv", "held_out_loss") ==
+        Column(tmp.file("fb") + "/log.csv", "held_out_loss"));
   const auto fa = Weights(tmp.file("fa")), fb = Weights(tmp.file("fb"));
   for (size_t i = 0; i < fa.size(); ++i) CHECK(torch::equal(fa[i], fb[i]));
-  CHECK_THROWS_WITH(FinetuneDvae(cfg, tmp.file("fa"), data, tmp.file("fc"), {}), Contains("fine-tuned already"));
+  CHECK_THROWS_WITH(FinetuneDvae(cfg, tmp.file("fa"), data, tmp.file("fc"), {}),
+                    Contains("fine-tuned already"));
 }
 
-TEST_CASE("denoising: same seed same output, any length, optimisation mode leaves the bundle unchanged") {
+TEST_CASE(
+    "denoising: same seed same output, any length, optimisation mode leaves the bundle unchanged") {
   const DvaeModel model = DvaeModel::Load(TinyDir() + "/denoiser");
   const Motion clean = testing::MakeWalkingMotion(47, 30, 999);
   const Motion noisy = AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 4);

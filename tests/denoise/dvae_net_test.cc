@@ -1,10 +1,9 @@
 // The Motion-DVAE network and its objectives: shapes, KL formulas, gradients.
-#include "torch_catch.h"
-
 #include "denoise/dvae_bundle.h"
 #include "denoise/dvae_objective.h"
 #include "test_support.h"
 #include "tiny_dvae.h"
+#include "torch_catch.h"
 
 using namespace motionfork;
 
@@ -53,17 +52,22 @@ TEST_CASE("dvae KL formulas are zero for equal distributions and positive otherw
   CHECK(GaussianKl(m, l, m, l).abs().max().item<double>() < 1e-6);
   CHECK((GaussianKl(m, l, m + 0.5, l) > 0).all().item<bool>());
   const torch::Tensor a = torch::tensor({2.0, 5.0}), b = torch::tensor({0.01, 3.0});
-  CHECK(InverseGammaKl(torch::tensor({2.0}), torch::tensor({0.5}), 2.0, torch::tensor({0.5})).abs().item<double>() < 1e-6);
+  CHECK(InverseGammaKl(torch::tensor({2.0}), torch::tensor({0.5}), 2.0, torch::tensor({0.5}))
+            .abs()
+            .item<double>() < 1e-6);
   CHECK((InverseGammaKl(a, b, 2.0, torch::tensor({0.02, 0.02})) > 0).all().item<bool>());
   // Against a Monte Carlo estimate: E_q[log q(v) - log p(v)] for q = IG(3, 2), p = IG(2, 1).
   torch::manual_seed(3);
-  const torch::Tensor g = at::_standard_gamma(torch::full({200000}, 3.0)) / 2.0;  // Gamma(3, rate 2)
+  const torch::Tensor g =
+      at::_standard_gamma(torch::full({200000}, 3.0)) / 2.0;  // Gamma(3, rate 2)
   const torch::Tensor v = 1.0 / g;
   auto log_ig = [&](double al, double be) {
     return al * std::log(be) - std::lgamma(al) - (al + 1) * torch::log(v) - be / v;
   };
   const double mc = (log_ig(3, 2) - log_ig(2, 1)).mean().item<double>();
-  const double exact = InverseGammaKl(torch::tensor({3.0}), torch::tensor({2.0}), 2.0, torch::tensor({1.0})).item<double>();
+  const double exact =
+      InverseGammaKl(torch::tensor({3.0}), torch::tensor({2.0}), 2.0, torch::tensor({1.0}))
+          .item<double>();
   CHECK(exact == Approx(mc).margin(0.01));
 }
 
@@ -79,7 +83,8 @@ TEST_CASE("dvae objectives: every parameter the stage trains receives a gradient
     int missing = 0;
     for (const auto& kv : net->named_parameters()) {
       const bool noise_head = kv.key().rfind("e_b.", 0) == 0;  // only denoising trains it
-      const bool has = kv.value().grad().defined() && kv.value().grad().abs().sum().item<double>() > 0;
+      const bool has =
+          kv.value().grad().defined() && kv.value().grad().abs().sum().item<double>() > 0;
       if (!noise_head && !has) {
         ++missing;
         UNSCOPED_INFO("no gradient: " << kv.key());

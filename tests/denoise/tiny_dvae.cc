@@ -8,7 +8,8 @@ DvaeData TinyDvaeData(int clips, int frames) {
   DvaeData d;
   d.joints = MakeHumanoid()->num_joints();
   for (int c = 0; c < clips; ++c) {
-    (c % 4 == 3 ? d.held_out : d.train).push_back(MakeWalkingMotion(frames, 30.0, 200 + c).positions());
+    (c % 4 == 3 ? d.held_out : d.train)
+        .push_back(MakeWalkingMotion(frames, 30.0, 200 + c).positions());
   }
   return d;
 }

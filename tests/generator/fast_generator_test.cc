@@ -1,10 +1,10 @@
-#include "torch_catch.h"
+#include "generator/fast_generator.h"
 
 #include <cmath>
 
-#include "generator/fast_generator.h"
 #include "generator/gcn_kernels.h"
 #include "generator/generator_net.h"
+#include "torch_catch.h"
 #include "torch_util/threads.h"
 
 using namespace motionfork;
@@ -45,8 +45,12 @@ double MaxDifference(const GeneratorOptions& o, const std::vector<std::vector<in
   for (size_t p = 0; p < parts.size(); ++p) {
     torch::Tensor zi = torch::randn({histories * k, o.nz});
     if (p < fixed.size() && fixed[p]) {
-      zi = zi.view({histories, k, o.nz}).select(1, 0).unsqueeze(1).expand({histories, k, o.nz})
-               .reshape({histories * k, o.nz}).contiguous();
+      zi = zi.view({histories, k, o.nz})
+               .select(1, 0)
+               .unsqueeze(1)
+               .expand({histories, k, o.nz})
+               .reshape({histories * k, o.nz})
+               .contiguous();
     }
     z.push_back(zi);
     zp.push_back(z.back().data_ptr<float>());
@@ -81,7 +85,8 @@ TEST_CASE("fused tanh kernel stays within 3e-7 of std::tanh") {
   std::vector<float> y = x;
   kernels::Tanh(y.data(), static_cast<int64_t>(y.size()));
   double worst = 0;
-  for (size_t i = 0; i < x.size(); ++i) worst = std::max(worst, std::abs(double(y[i]) - std::tanh(double(x[i]))));
+  for (size_t i = 0; i < x.size(); ++i)
+    worst = std::max(worst, std::abs(double(y[i]) - std::tanh(double(x[i]))));
   CHECK(worst < 3e-7);
 }
 
@@ -115,8 +120,10 @@ TEST_CASE("fast generator gives the LibTorch network's futures") {
   PinThreads(1);
   // H36M-like: 16 nodes, two parts; odd sizes: 20 nodes (tiles of 12 cross samples), hidden 48
   // and 96 (column tails), no batch norm, three parts.
-  const std::vector<std::vector<int64_t>> two16 = {{0, 1, 2, 3, 4, 5}, {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
-  std::vector<std::vector<int64_t>> three20 = {{0, 1, 2, 3, 4, 5, 6}, {7, 8, 9, 10, 11, 12}, {13, 14, 15, 16, 17, 18, 19}};
+  const std::vector<std::vector<int64_t>> two16 = {{0, 1, 2, 3, 4, 5},
+                                                   {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
+  std::vector<std::vector<int64_t>> three20 = {
+      {0, 1, 2, 3, 4, 5, 6}, {7, 8, 9, 10, 11, 12}, {13, 14, 15, 16, 17, 18, 19}};
   CHECK(MaxDifference(Sizes(16, 64, 10, true), two16, 2, 6, {}, 1) < 1e-5);
   CHECK(MaxDifference(Sizes(20, 48, 8, true), three20, 3, 5, {}, 2) < 1e-5);
   CHECK(MaxDifference(Sizes(20, 96, 8, false), three20, 1, 1, {}, 3) < 1e-5);
@@ -152,15 +159,19 @@ TEST_CASE("fast generator: a sample's future does not depend on its batch") {
     const torch::Tensor z0 = torch::randn({3 * k, o.nz}), z1 = torch::randn({3 * k, o.nz});
     const int64_t per_sample = int64_t(o.t_pred) * o.num_nodes * 3;
     std::vector<float> all(3 * k * per_sample), one(k * per_sample);
-    fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {}, all.data());
+    fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>(), z1.data_ptr<float>()}, {},
+                 all.data());
     // History 2 alone gives bit-identical futures.
     const torch::Tensor h2 = h.slice(0, 2).contiguous();
-    const torch::Tensor z02 = z0.slice(0, 2 * k).contiguous(), z12 = z1.slice(0, 2 * k).contiguous();
-    fast.Predict(h2.data_ptr<float>(), 1, k, {z02.data_ptr<float>(), z12.data_ptr<float>()}, {}, one.data());
+    const torch::Tensor z02 = z0.slice(0, 2 * k).contiguous(),
+                        z12 = z1.slice(0, 2 * k).contiguous();
+    fast.Predict(h2.data_ptr<float>(), 1, k, {z02.data_ptr<float>(), z12.data_ptr<float>()}, {},
+                 one.data());
     INFO("hidden " << o.hidden << ", k " << k);
     CHECK(std::equal(one.begin(), one.end(), all.begin() + 2 * k * per_sample));
     // A wrong number of latents is refused.
-    CHECK_THROWS_WITH(fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>()}, {}, all.data()),
-                      Catch::Contains("expected 2 latents"));
+    CHECK_THROWS_WITH(
+        fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>()}, {}, all.data()),
+        Catch::Contains("expected 2 latents"));
   }
 }

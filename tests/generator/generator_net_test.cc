@@ -1,8 +1,8 @@
-#include "torch_catch.h"
+#include "generator/generator_net.h"
 
 #include "core/dct.h"
-#include "generator/generator_net.h"
 #include "generator/latents.h"
+#include "torch_catch.h"
 #include "torch_util/threads.h"
 
 using namespace motionfork;
@@ -62,8 +62,8 @@ TEST_CASE("generator shapes, parts in sequence and part control") {
   // Same latents -> same futures.
   CHECK(torch::equal(y, net->forward(h, z)));
   // Fix part 0's latent across samples: its nodes are identical in all K futures, part 1 varies.
-  std::vector<torch::Tensor> fixed = {z[0].view({2, K, 3}).select(1, 0).unsqueeze(1).expand({2, K, 3}).reshape({2 * K, 3}),
-                                      z[1]};
+  std::vector<torch::Tensor> fixed = {
+      z[0].view({2, K, 3}).select(1, 0).unsqueeze(1).expand({2, K, 3}).reshape({2 * K, 3}), z[1]};
   // Max over samples of the difference to sample 0, for joints [from, to) of futures [2, K, ...].
   const auto spread = [](const torch::Tensor& f, int64_t from, int64_t to) {
     const torch::Tensor j = f.slice(3, from, to);
@@ -112,7 +112,8 @@ TEST_CASE("every generator parameter receives a gradient") {
 
 TEST_CASE("generator rejects mismatched inputs") {
   GeneratorNet net(Tiny(), TwoParts());
-  CHECK_THROWS_WITH(net->EncodeHistory(torch::randn({2, 4, 6, 3})), Catch::Contains("expected history [B, 5, 6, 3]"));
+  CHECK_THROWS_WITH(net->EncodeHistory(torch::randn({2, 4, 6, 3})),
+                    Catch::Contains("expected history [B, 5, 6, 3]"));
   CHECK_THROWS_WITH(GeneratorNet(Tiny(), std::vector<std::vector<int64_t>>{{0, 1}, {3, 4, 5}}),
                     Catch::Contains("node 2 is in no body part"));
   CHECK_THROWS_WITH(net->Decode(torch::randn({6, 2, 12}), {torch::randn({2, 3})}),
@@ -126,14 +127,16 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
   torch::manual_seed(5);
   // Widths below, at and across the AVX-512 kernels' 16-float blocks; both code paths.
   const bool portable = GENERATE(false, true);
-  const std::vector<int64_t> shape = GENERATE(std::vector<int64_t>{4, 9, 7}, std::vector<int64_t>{3, 50, 16},
-                                              std::vector<int64_t>{2, 33, 40});
+  const std::vector<int64_t> shape =
+      GENERATE(std::vector<int64_t>{4, 9, 7}, std::vector<int64_t>{3, 50, 16},
+               std::vector<int64_t>{2, 33, 40});
   const bool with_bias = GENERATE(false, true);
   INFO("portable " << portable << ", shape " << c10::str(shape) << ", bias " << with_bias);
   UsePortableKernelsForTesting(portable);
   const int64_t N = shape[0], H = shape[2];
   const torch::Tensor x0 = torch::randn(shape) * 2 + 0.5;
-  const torch::Tensor g0 = torch::randn({N, 1, H}), b0 = torch::randn({N, 1, H}), c0 = torch::randn({H});
+  const torch::Tensor g0 = torch::randn({N, 1, H}), b0 = torch::randn({N, 1, H}),
+                      c0 = torch::randn({H});
   auto run = [&](bool fused) {
     torch::Tensor x = x0.clone().requires_grad_(true), g = g0.clone().requires_grad_(true),
                   b = b0.clone().requires_grad_(true), c = c0.clone().requires_grad_(true);
@@ -150,7 +153,8 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
     // x's) is a real number to compare, not only rounding noise.
     const torch::Tensor w = torch::linspace(-1, 1, y.numel()).view(y.sizes()).pow(3) + 0.1 * x0;
     (y * w).sum().backward();
-    std::vector<torch::Tensor> out = {y.detach(), mean.detach(), var.detach(), x.grad(), g.grad(), b.grad()};
+    std::vector<torch::Tensor> out = {y.detach(), mean.detach(), var.detach(),
+                                      x.grad(),   g.grad(),      b.grad()};
     if (with_bias) out.push_back(c.grad());
     return out;
   };
@@ -169,8 +173,9 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
 TEST_CASE("node mix kernel matches the matrix product, values and gradients") {
   torch::manual_seed(9);
   // Columns below, at and across the kernel's 64-column steps (and over several threads' ranges).
-  const std::vector<int64_t> shape = GENERATE(std::vector<int64_t>{3, 1, 7}, std::vector<int64_t>{16, 4, 16},
-                                              std::vector<int64_t>{5, 300, 33});
+  const std::vector<int64_t> shape =
+      GENERATE(std::vector<int64_t>{3, 1, 7}, std::vector<int64_t>{16, 4, 16},
+               std::vector<int64_t>{5, 300, 33});
   const bool portable = GENERATE(false, true);
   INFO("portable " << portable << ", shape " << c10::str(shape));
   UsePortableKernelsForTesting(portable);
@@ -194,13 +199,15 @@ TEST_CASE("weight product kernel matches the matrix product, values and gradient
   // Rows past the kernel's threshold (4,096) and not a multiple of its 8-row tiles, widths of
   // whole 48-column panels and narrower ones; an output width the kernel leaves to LibTorch (not a
   // multiple of 16), and too few rows for it.
-  const std::vector<int64_t> shape = GENERATE(std::vector<int64_t>{4101, 16, 48}, std::vector<int64_t>{4203, 64, 32},
-                                              std::vector<int64_t>{5000, 30, 256}, std::vector<int64_t>{4100, 256, 30},
-                                              std::vector<int64_t>{17, 32, 64});
+  const std::vector<int64_t> shape =
+      GENERATE(std::vector<int64_t>{4101, 16, 48}, std::vector<int64_t>{4203, 64, 32},
+               std::vector<int64_t>{5000, 30, 256}, std::vector<int64_t>{4100, 256, 30},
+               std::vector<int64_t>{17, 32, 64});
   const bool portable = GENERATE(false, true);
   INFO("portable " << portable << ", rows, in, out " << c10::str(shape));
   UsePortableKernelsForTesting(portable);
-  const torch::Tensor x0 = torch::randn({shape[0], shape[1]}), w0 = torch::randn({shape[1], shape[2]});
+  const torch::Tensor x0 = torch::randn({shape[0], shape[1]}),
+                      w0 = torch::randn({shape[1], shape[2]});
   const torch::Tensor weigh = torch::randn({shape[0], shape[2]});  // weighs each output
   torch::Tensor x = x0.clone().requires_grad_(true), w = w0.clone().requires_grad_(true);
   const torch::Tensor y = WeightProduct(x, w);
@@ -218,7 +225,8 @@ TEST_CASE("weight product kernel matches the matrix product, values and gradient
   if (motionfork::kernels::Available() && shape[0] > 4099 && shape[2] % 16 == 0) {
     torch::NoGradGuard no_grad;
     const torch::Tensor all = WeightProduct(x0, w0);
-    CHECK(torch::equal(WeightProduct(x0.slice(0, 0, 4099), w0).slice(0, 4098), all.slice(0, 4098, 4099)));
+    CHECK(torch::equal(WeightProduct(x0.slice(0, 0, 4099), w0).slice(0, 4098),
+                       all.slice(0, 4098, 4099)));
   }
 }
 
@@ -227,7 +235,8 @@ TEST_CASE("generator in eval mode gives the same futures through fused and plain
   GeneratorNet net(Tiny(), TwoParts());
   // A few training-mode passes so that running statistics are not trivial.
   net->train();
-  for (int i = 0; i < 3; ++i) net->forward(torch::randn({4, 5, 6, 3}), {torch::randn({8, 3}), torch::randn({8, 3})});
+  for (int i = 0; i < 3; ++i)
+    net->forward(torch::randn({4, 5, 6, 3}), {torch::randn({8, 3}), torch::randn({8, 3})});
   net->eval();
   const torch::Tensor h = torch::randn({2, 5, 6, 3});
   std::vector<torch::Tensor> z = {torch::randn({6, 3}), torch::randn({6, 3})};
@@ -240,7 +249,8 @@ TEST_CASE("generator in eval mode gives the same futures through fused and plain
   CHECK(torch::allclose(fused, plain, 1e-5, 1e-5));
 }
 
-TEST_CASE("nested training forward equals the full forward: futures, gradients, running statistics") {
+TEST_CASE(
+    "nested training forward equals the full forward: futures, gradients, running statistics") {
   PinThreads(1);
   const std::vector<std::vector<int64_t>> three = {{0, 1}, {2, 3}, {4, 5}};
   const std::vector<int64_t> per_part = {2, 3, 2};
@@ -248,14 +258,16 @@ TEST_CASE("nested training forward equals the full forward: futures, gradients, 
   GeneratorNet full(Tiny(), three), nested(Tiny(), three);
   {
     torch::NoGradGuard no_grad;
-    for (size_t i = 0; i < full->parameters().size(); ++i) nested->parameters()[i].copy_(full->parameters()[i]);
+    for (size_t i = 0; i < full->parameters().size(); ++i)
+      nested->parameters()[i].copy_(full->parameters()[i]);
   }
   full->train();
   nested->train();
   at::Generator gen = MakeGenerator(3);
   const torch::Tensor h = torch::randn({3, 5, 6, 3});
   const auto z = NestedLatents(3, per_part, 3, gen);
-  const torch::Tensor weights = torch::randn({3 * 12, 15, 6, 3});  // a loss that weighs every sample
+  const torch::Tensor weights =
+      torch::randn({3 * 12, 15, 6, 3});  // a loss that weighs every sample
   const torch::Tensor a = full->forward(h, z), b = nested->ForwardNested(h, z, per_part);
   CHECK(torch::allclose(a, b, 1e-5, 1e-5));
   (a * weights).sum().backward();
@@ -263,7 +275,8 @@ TEST_CASE("nested training forward equals the full forward: futures, gradients, 
   // Tolerance: relative to the largest gradient of all (the convs' biases before a batch norm
   // get gradients that are zero up to rounding, which the two orders of summation round apart).
   double scale = 0;
-  for (const auto& p : full->parameters()) scale = std::max(scale, p.grad().abs().max().item<double>());
+  for (const auto& p : full->parameters())
+    scale = std::max(scale, p.grad().abs().max().item<double>());
   const auto named = full->named_parameters();
   for (size_t i = 0; i < full->parameters().size(); ++i) {
     INFO(named[i].key());
@@ -276,7 +289,8 @@ TEST_CASE("nested training forward equals the full forward: futures, gradients, 
   }
   // Latents that are not nested as per_part says are refused.
   std::vector<torch::Tensor> flat = {torch::randn({36, 3}), z[1], z[2]};
-  CHECK_THROWS_WITH(nested->ForwardNested(h, flat, per_part), Catch::Contains("latent 0 is not nested"));
+  CHECK_THROWS_WITH(nested->ForwardNested(h, flat, per_part),
+                    Catch::Contains("latent 0 is not nested"));
   CHECK_THROWS_WITH(nested->ForwardNested(h, z, {2, 3}), Catch::Contains("expected 3 latents"));
   CHECK_THROWS_WITH(nested->ForwardNested(h, z, {2, 0, 2}), Catch::Contains("must be >= 1, got 0"));
 }

@@ -1,6 +1,6 @@
-#include "torch_catch.h"
-
 #include "generator/losses.h"
+
+#include "torch_catch.h"
 #include "torch_util/threads.h"
 
 using namespace motionfork;
@@ -35,7 +35,8 @@ LossWeights UnitDiversity() {
 
 }  // namespace
 
-TEST_CASE("losses: pseudo multimodal term equals the direct squared distances, values and gradients") {
+TEST_CASE(
+    "losses: pseudo multimodal term equals the direct squared distances, values and gradients") {
   PinThreads(1);
   torch::manual_seed(3);
   const int64_t Bh = 2, K = 6, M = 3, t_his = 4, T = 10, N = 5;
@@ -52,7 +53,8 @@ TEST_CASE("losses: pseudo multimodal term equals the direct squared distances, v
   // Direct: every pseudo future minus every sample, squared, summed over frames, nodes and axes;
   // the best sample per pseudo future, averaged over the pseudo futures that exist.
   const torch::Tensor future = pred.view({Bh, K, T, N, 3}).slice(2, t_his);
-  const torch::Tensor err = (future.unsqueeze(1) - b.pseudo.unsqueeze(2)).pow(2).sum({-1, -2, -3});  // [Bh, M, K]
+  const torch::Tensor err =
+      (future.unsqueeze(1) - b.pseudo.unsqueeze(2)).pow(2).sum({-1, -2, -3});  // [Bh, M, K]
   const torch::Tensor best = std::get<0>(err.min(2));
   const torch::Tensor want = (best * b.pseudo_mask).sum() / b.pseudo_mask.sum();
   const torch::Tensor grad_want = torch::autograd::grad({want}, {pred})[0];
@@ -85,7 +87,8 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
   const torch::Tensor r_pred = pred0.clone().requires_grad_(true);
   const torch::Tensor p5 = r_pred.view({Bh, K, T, N, 3});
   const torch::Tensor past = p5.slice(2, 0, t_his), future = p5.slice(2, t_his);
-  const torch::Tensor r_past = (past - b.truth.slice(1, 0, t_his).unsqueeze(1)).pow(2).sum({-1, -2}).mean(-1).mean();
+  const torch::Tensor r_past =
+      (past - b.truth.slice(1, 0, t_his).unsqueeze(1)).pow(2).sum({-1, -2}).mean(-1).mean();
   const torch::Tensor parent_index = torch::tensor(std::vector<int64_t>{0, 0, 2, 2, 3});
   const torch::Tensor from_root = torch::tensor(std::vector<float>{1, 0, 1, 0, 0}).view({N, 1});
   auto lengths = [&](const torch::Tensor& poses) {
@@ -94,14 +97,18 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
   const torch::Tensor truth_len = lengths(b.truth.select(1, t_his - 1));
   const torch::Tensor r_limb = (lengths(p5) - truth_len.view({Bh, 1, 1, N})).pow(2).sum(-1).mean();
   const torch::Tensor r_best =
-      std::get<0>((future - b.truth.slice(1, t_his).unsqueeze(1)).pow(2).sum({-1, -2, -3}).min(1)).mean();
+      std::get<0>((future - b.truth.slice(1, t_his).unsqueeze(1)).pow(2).sum({-1, -2, -3}).min(1))
+          .mean();
   const torch::Tensor r_frames = future.slice(2, 1, T - t_his, 2).reshape({-1, N, 3});
   // Diversity, both parts: exp(-L1 distance) over the pairs of samples that differ only in the
   // part's latent, the part's nodes, future frames (cdist, as GSPS's pdist). Part 0's groups are
   // samples {0, 3} and {6, 9} (part 1's first latent), part 1's {0, 1, 2}, {3, 4, 5}, ...
   const torch::Tensor f7 = future.reshape({Bh, 2, 3, T - t_his, N, 3});
-  const torch::Tensor x0 = f7.select(2, 0).index_select(3, torch::tensor(std::vector<int64_t>{0, 1})).reshape({Bh, 2, -1});
-  const torch::Tensor x1 = f7.index_select(4, torch::tensor(std::vector<int64_t>{2, 3, 4})).reshape({Bh * 2, 3, -1});
+  const torch::Tensor x0 = f7.select(2, 0)
+                               .index_select(3, torch::tensor(std::vector<int64_t>{0, 1}))
+                               .reshape({Bh, 2, -1});
+  const torch::Tensor x1 =
+      f7.index_select(4, torch::tensor(std::vector<int64_t>{2, 3, 4})).reshape({Bh * 2, 3, -1});
   auto diversity = [](const torch::Tensor& x) {
     const int64_t n = x.size(1);
     const torch::Tensor d = torch::cdist(x, x, 1.0);
@@ -109,14 +116,18 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
     return torch::exp(-d.masked_select(upper.unsqueeze(0).expand_as(d))).mean();
   };
   const std::vector<std::pair<std::string, torch::Tensor>> reference = {
-      {"past_reconstruction", r_past}, {"limb_length", r_limb}, {"best_of_many", r_best},
-      {"diversity_0", diversity(x0)}, {"diversity_1", diversity(x1)}};
+      {"past_reconstruction", r_past},
+      {"limb_length", r_limb},
+      {"best_of_many", r_best},
+      {"diversity_0", diversity(x0)},
+      {"diversity_1", diversity(x1)}};
   for (const auto& [name, want] : reference) {
     INFO(name);
     const torch::Tensor got = Term(terms, name);
     CHECK(torch::allclose(got, want, 1e-5, 1e-6));
     const torch::Tensor g_got = torch::autograd::grad({got}, {pred}, {}, /*retain_graph=*/true)[0];
-    const torch::Tensor g_want = torch::autograd::grad({want}, {r_pred}, {}, /*retain_graph=*/true)[0];
+    const torch::Tensor g_want =
+        torch::autograd::grad({want}, {r_pred}, {}, /*retain_graph=*/true)[0];
     CHECK(torch::isfinite(g_got).all().item<bool>());
     CHECK(g_got.abs().sum().item<double>() > 0);
     CHECK(torch::allclose(g_got, g_want, 1e-4, 1e-6));

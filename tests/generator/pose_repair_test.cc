@@ -1,6 +1,6 @@
 // PoseRepair on the Bandai skeleton with the shipped Bandai constraint set (angle ranges and the
 // rigid pelvis): poses built from the demo walk, damaged in known ways.
-#include "torch_catch.h"
+#include "generator/pose_repair.h"
 
 #include <cmath>
 
@@ -11,7 +11,7 @@
 #include "constraints/checker.h"
 #include "constraints/constraint_set.h"
 #include "core/demo_motion.h"
-#include "generator/pose_repair.h"
+#include "torch_catch.h"
 
 using namespace motionfork;
 
@@ -20,7 +20,8 @@ namespace {
 struct Setup {
   std::shared_ptr<const Skeleton> skeleton =
       LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "bandai")).skeleton;
-  ConstraintSetSpec spec = LoadConstraintConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "constraints", "bandai"));
+  ConstraintSetSpec spec =
+      LoadConstraintConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "constraints", "bandai"));
   PartPlan parts = MakePartPlan(*skeleton);
   int J = skeleton->num_joints();
 
@@ -29,7 +30,8 @@ struct Setup {
     DemoWalkOptions o;
     o.frames = frames;
     const Motion m = MakeDemoWalk(skeleton, o);
-    torch::Tensor x = torch::from_blob(const_cast<float*>(m.positions().data()), {frames, J, 3}).clone();
+    torch::Tensor x =
+        torch::from_blob(const_cast<float*>(m.positions().data()), {frames, J, 3}).clone();
     return x - x.select(1, 0).unsqueeze(1);
   }
   int Joint(const char* name) const { return skeleton->Index(name); }
@@ -51,7 +53,9 @@ struct Setup {
   }
 };
 
-float Distance(const torch::Tensor& pose, int a, int b) { return (pose[a] - pose[b]).norm().item<float>(); }
+float Distance(const torch::Tensor& pose, int a, int b) {
+  return (pose[a] - pose[b]).norm().item<float>();
+}
 
 }  // namespace
 
@@ -59,7 +63,8 @@ TEST_CASE("rigid pelvis: put back on the template layout with legs and upper bod
   Setup s;
   const torch::Tensor templ = s.Walk(20);
   REQUIRE(s.Broken(templ) == 0);
-  // Damage: spine base pushed 3 cm sideways with the whole upper body, left hip 2 cm up with its leg.
+  // Damage: spine base pushed 3 cm sideways with the whole upper body, left hip 2 cm up with its
+  // leg.
   torch::Tensor poses = templ.clone();
   const int spine = s.Joint("Spine"), hip_l = s.Joint("UpperLeg_L"), hip_r = s.Joint("UpperLeg_R");
   for (int j : s.skeleton->Subtree(spine)) poses.select(1, j).select(1, 0).add_(0.03f);
@@ -78,8 +83,10 @@ TEST_CASE("rigid pelvis: put back on the template layout with legs and upper bod
     CHECK(Distance(p, hip_l, hip_r) == Approx(Distance(q, hip_l, hip_r)).margin(1e-5));
     CHECK(Distance(p, 0, spine) == Approx(Distance(q, 0, spine)).margin(1e-5));
     // Bones inside the carried subtrees keep their lengths (thigh, shin; spine to chest).
-    CHECK(Distance(p, hip_l, s.Joint("LowerLeg_L")) == Approx(Distance(b, hip_l, s.Joint("LowerLeg_L"))).margin(1e-5));
-    CHECK(Distance(p, spine, s.Joint("Chest")) == Approx(Distance(b, spine, s.Joint("Chest"))).margin(1e-5));
+    CHECK(Distance(p, hip_l, s.Joint("LowerLeg_L")) ==
+          Approx(Distance(b, hip_l, s.Joint("LowerLeg_L"))).margin(1e-5));
+    CHECK(Distance(p, spine, s.Joint("Chest")) ==
+          Approx(Distance(b, spine, s.Joint("Chest"))).margin(1e-5));
   }
 }
 
@@ -105,8 +112,8 @@ TEST_CASE("angle repair: a backward knee is bent forward again and valid poses a
   const torch::Tensor moved = (poses - before).norm(2, -1).slice(0, 10, 20);  // [10, J]
   CHECK(moved.max().item<float>() < 0.12f);
   for (int j = 0; j < s.J; ++j) {
-    if (j == knee || j == ankle || j == hip || j == s.Joint("LowerLeg_R") || j == s.Joint("Foot_R") ||
-        j == s.Joint("UpperLeg_R"))
+    if (j == knee || j == ankle || j == hip || j == s.Joint("LowerLeg_R") ||
+        j == s.Joint("Foot_R") || j == s.Joint("UpperLeg_R"))
       continue;
     CHECK(moved.select(1, j).max().item<float>() < 1e-5);
   }
@@ -122,20 +129,24 @@ TEST_CASE("repair keeps part control: a fixed part stays identical across sample
     torch::Tensor x = walk.clone();
     const float a = 0.15f * k, c = std::cos(a), sn = std::sin(a);
     for (int j : s.skeleton->Subtree(s.Joint("Spine"))) {
-      const torch::Tensor px = x.select(1, j).select(1, 0).clone(), pz = x.select(1, j).select(1, 2).clone();
+      const torch::Tensor px = x.select(1, j).select(1, 0).clone(),
+                          pz = x.select(1, j).select(1, 2).clone();
       x.select(1, j).select(1, 0).copy_(c * px + sn * pz);
       x.select(1, j).select(1, 2).copy_(-sn * px + c * pz);
     }
-    for (int j : s.skeleton->Subtree(s.Joint("UpperLeg_L"))) x.select(1, j).select(1, 1).add_(0.015f);
+    for (int j : s.skeleton->Subtree(s.Joint("UpperLeg_L")))
+      x.select(1, j).select(1, 1).add_(0.015f);
     samples.push_back(x);
   }
   for (int fixed_part = 0; fixed_part < 2; ++fixed_part) {
     torch::Tensor poses = torch::cat(samples, 0);  // [32, J, 3]
-    if (fixed_part == 1) {  // upper body shared, legs varied
+    if (fixed_part == 1) {                         // upper body shared, legs varied
       poses = torch::cat(samples, 0);
       for (int k = 0; k < 4; ++k) {
-        for (int j : s.parts.nodes[1]) poses.slice(0, 8 * k, 8 * k + 8).select(1, j + 1).copy_(samples[0].select(1, j + 1));
-        for (int j : s.parts.nodes[0]) poses.slice(0, 8 * k, 8 * k + 8).select(1, j + 1).add_(0.01f * k);
+        for (int j : s.parts.nodes[1])
+          poses.slice(0, 8 * k, 8 * k + 8).select(1, j + 1).copy_(samples[0].select(1, j + 1));
+        for (int j : s.parts.nodes[0])
+          poses.slice(0, 8 * k, 8 * k + 8).select(1, j + 1).add_(0.01f * k);
       }
     }
     const torch::Tensor templ = torch::cat({walk, walk, walk, walk}, 0);
@@ -145,7 +156,8 @@ TEST_CASE("repair keeps part control: a fixed part stays identical across sample
     INFO("fixed part " << s.parts.names[fixed_part]);
     for (int64_t n : s.parts.nodes[fixed_part]) {
       for (int k = 1; k < 4; ++k) {
-        CHECK(torch::equal(poses.slice(0, 8 * k, 8 * k + 8).select(1, n + 1), poses.slice(0, 0, 8).select(1, n + 1)));
+        CHECK(torch::equal(poses.slice(0, 8 * k, 8 * k + 8).select(1, n + 1),
+                           poses.slice(0, 0, 8).select(1, n + 1)));
       }
     }
   }

@@ -1,5 +1,5 @@
 // Training, bundles and the Forecaster on synthetic data built in code.
-#include "torch_catch.h"
+#include "generator/training.h"
 
 #include <filesystem>
 
@@ -8,8 +8,8 @@
 #include "config/training_options.h"
 #include "core/joint_selection.h"
 #include "generator/forecaster.h"
-#include "generator/training.h"
 #include "test_support.h"
+#include "torch_catch.h"
 #include "torch_util/threads.h"
 
 using namespace motionfork;
@@ -77,15 +77,19 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
   const Dataset ds = SyntheticDataset(8, 60);
   const GeneratorTrainConfig cfg = TinyConfig();
   const ModelConfig model = ModelFor(ds, cfg);
-  const TrainingWindows data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, cache.path().string());
+  const TrainingWindows data =
+      BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, cache.path().string());
   REQUIRE(data.windows.size() == 6u * 23);  // 6 train clips of 60 frames, starts 0, 2, ..., 44
   size_t with_mm = 0;
   for (const auto& m : data.multimodal) with_mm += !m.empty();
   CHECK(with_mm > 0);
   std::vector<std::vector<std::pair<std::string, double>>> epochs;
   TrainCallbacks cb;
-  cb.epoch = [&](int, const std::vector<std::pair<std::string, double>>& terms, double) { epochs.push_back(terms); };
-  TrainSummary first = TrainGenerator(cfg, model, data, out.path().string(), {}, cb, /*stop_after=*/4);
+  cb.epoch = [&](int, const std::vector<std::pair<std::string, double>>& terms, double) {
+    epochs.push_back(terms);
+  };
+  TrainSummary first =
+      TrainGenerator(cfg, model, data, out.path().string(), {}, cb, /*stop_after=*/4);
   CHECK(first.epochs_done == 4);
   TrainSummary second = TrainGenerator(cfg, model, data, out.path().string(), {}, cb);
   CHECK(second.first_epoch == 4);
@@ -93,7 +97,8 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
   REQUIRE(epochs.size() == 8);
   for (size_t k = 0; k < epochs[0].size(); ++k) {
     const std::string& name = epochs[0][k].first;
-    INFO(name << ": first epoch " << epochs.front()[k].second << ", last " << epochs.back()[k].second);
+    INFO(name << ": first epoch " << epochs.front()[k].second << ", last "
+              << epochs.back()[k].second);
     if (name.rfind("diversity", 0) == 0) continue;  // diversity is traded against accuracy
     CHECK(epochs.back()[k].second < epochs.front()[k].second);
   }
@@ -119,12 +124,14 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
     for (int k = 1; k < c.k; ++k) {
       for (int t = 0; t < c.t_pred; ++t) {
         for (int j = 1; j < 17; ++j) {
-          const bool in_part = std::find(plan.nodes[p].begin(), plan.nodes[p].end(), j - 1) != plan.nodes[p].end();
+          const bool in_part =
+              std::find(plan.nodes[p].begin(), plan.nodes[p].end(), j - 1) != plan.nodes[p].end();
           for (int ax = 0; ax < 3; ++ax) {
             const size_t i0 = ((static_cast<size_t>(0) * c.t_pred + t) * 17 + j) * 3 + ax;
             const size_t ik = ((static_cast<size_t>(k) * c.t_pred + t) * 17 + j) * 3 + ax;
             const float d = std::abs(c.futures[ik] - c.futures[i0]);
-            (in_part ? fixed_spread : other_spread) = std::max(in_part ? fixed_spread : other_spread, d);
+            (in_part ? fixed_spread : other_spread) =
+                std::max(in_part ? fixed_spread : other_spread, d);
           }
         }
       }
@@ -138,7 +145,8 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
   req.fixed_parts = {};
   CHECK_THROWS_WITH(f.Predict(history, 58, req), Catch::Contains("needs 5 history frames"));
   std::vector<float> bad = history.positions();
-  CHECK_THROWS_WITH(f.PredictRootRelative(std::vector<float>(5 * 16 * 3, NAN), 1, req), Catch::Contains("NaN"));
+  CHECK_THROWS_WITH(f.PredictRootRelative(std::vector<float>(5 * 16 * 3, NAN), 1, req),
+                    Catch::Contains("NaN"));
 }
 
 TEST_CASE("a fixed later part keeps its own joints when earlier parts are the same") {

@@ -1,9 +1,9 @@
 // HG-VAE configs and bundle manifests.
-#include <catch2/catch.hpp>
+#include "config/hgvae_config.h"
 
+#include <catch2/catch.hpp>
 #include <fstream>
 
-#include "config/hgvae_config.h"
 #include "core/error.h"
 #include "test_support.h"
 
@@ -11,7 +11,8 @@ using namespace motionfork;
 using Catch::Contains;
 
 TEST_CASE("hgvae config: the shipped config parses with every key") {
-  const HgvaeTrainConfig c = LoadHgvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/hgvae_bandai.yaml");
+  const HgvaeTrainConfig c =
+      LoadHgvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/hgvae_bandai.yaml");
   CHECK(c.protocol == "bandai");
   REQUIRE(c.model.levels.size() == 4);
   CHECK(c.model.levels[0].nodes == 1);
@@ -27,12 +28,15 @@ TEST_CASE("hgvae config: the shipped config parses with every key") {
 TEST_CASE("hgvae config: unknown keys and bad sizes are errors naming the key") {
   CHECK_THROWS_WITH(ParseHgvaeTrainConfig("protocol: bandai\nmodel:\n  widht: 3\n", "x.yaml"),
                     Contains("x.yaml") && Contains("widht"));
-  CHECK_THROWS_WITH(ParseHgvaeTrainConfig("protocol: bandai\nmodel:\n  levels: [[1, 8], [4, 8]]\n", "x.yaml"),
-                    Contains("(bottom) level must be the full graph"));
-  CHECK_THROWS_WITH(ParseHgvaeTrainConfig("protocol: bandai\nimpute:\n  objective: magic\n", "x.yaml"),
-                    Contains("posterior"));
-  CHECK_THROWS_WITH(ParseHgvaeTrainConfig("protocol: bandai\ntraining:\n  condition: style\n", "x.yaml"),
-                    Contains("condition"));
+  CHECK_THROWS_WITH(
+      ParseHgvaeTrainConfig("protocol: bandai\nmodel:\n  levels: [[1, 8], [4, 8]]\n", "x.yaml"),
+      Contains("(bottom) level must be the full graph"));
+  CHECK_THROWS_WITH(
+      ParseHgvaeTrainConfig("protocol: bandai\nimpute:\n  objective: magic\n", "x.yaml"),
+      Contains("posterior"));
+  CHECK_THROWS_WITH(
+      ParseHgvaeTrainConfig("protocol: bandai\ntraining:\n  condition: style\n", "x.yaml"),
+      Contains("condition"));
 }
 
 TEST_CASE("hgvae config: a manifest survives a round trip exactly") {

@@ -1,6 +1,7 @@
 // Training, bundles and imputation on a tiny HG-VAE trained in code on synthetic walks.
-#include <catch2/catch.hpp>
+#include "imputation/hgvae_model.h"
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,7 +10,6 @@
 #include "core/error.h"
 #include "imputation/hgvae_bundle.h"
 #include "imputation/hgvae_experiments.h"
-#include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
 #include "imputation/occlusion.h"
 #include "imputation/tiny_hgvae.h"
@@ -94,18 +94,21 @@ TEST_CASE("hgvae model: load gives the same scores every time, bad bundles are n
   testing::TempDir dir;
   fs::create_directories(dir.file("broken"));
   fs::copy_file(TinyModelDir() + "/hgvae.yaml", dir.file("broken/hgvae.yaml"));
-  CHECK_THROWS_WITH(HgvaeModel::Load(dir.file("broken")), Contains("hgvae.pt") && Contains("missing"));
+  CHECK_THROWS_WITH(HgvaeModel::Load(dir.file("broken")),
+                    Contains("hgvae.pt") && Contains("missing"));
   std::ofstream(dir.file("broken/hgvae.pt")) << "not weights";
   CHECK_THROWS_WITH(HgvaeModel::Load(dir.file("broken")), Contains("hgvae.pt"));
   CHECK_THROWS_AS(a.Score(std::vector<float>(47)), std::invalid_argument);
   CHECK_THROWS_WITH(a.ClassIndex("walk"), Contains("unconditional"));
 }
 
-TEST_CASE("hgvae imputation: observed values kept, missing ones closer than the mean, best step kept") {
+TEST_CASE(
+    "hgvae imputation: observed values kept, missing ones closer than the mean, best step kept") {
   const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
   std::vector<float> windows;
   for (int s = 0; s < 16; ++s) {
-    const std::vector<float> p = PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8, 30.0, 500 + s));
+    const std::vector<float> p =
+        PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8, 30.0, 500 + s));
     windows.insert(windows.end(), p.begin(), p.end());
   }
   const std::vector<uint8_t> mask = RandomOcclusion(16, 8 * 48, 0.3, 1);
@@ -143,7 +146,8 @@ TEST_CASE("hgvae imputation: observed values kept, missing ones closer than the 
 TEST_CASE("hgvae imputation: an all-missing window and a mask of the wrong size are refused") {
   const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
   const std::vector<float> w = PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8));
-  CHECK_THROWS_WITH(model.Impute(w, std::vector<uint8_t>(w.size(), 1), {}), Contains("every value missing"));
+  CHECK_THROWS_WITH(model.Impute(w, std::vector<uint8_t>(w.size(), 1), {}),
+                    Contains("every value missing"));
   CHECK_THROWS_WITH(model.Impute(w, std::vector<uint8_t>(w.size() - 1, 0), {}), Contains("mask"));
 }
 
@@ -159,8 +163,10 @@ TEST_CASE("motion imputation: a long motion is covered, the root must be known")
   }
   CHECK(CoveringWindowStarts(16, 8, 8) == std::vector<int>{0, 8});
   missing[3 * 17 * 5 + 1] = 1;  // frame 5, root y
-  CHECK_THROWS_WITH(ImputeMotion(model, m, missing, ImputeOptions{}), Contains("frame 5") && Contains("root"));
-  CHECK_THROWS_WITH(ImputeMotion(model, testing::MakeWalkingMotion(5), std::vector<uint8_t>(5 * 51), ImputeOptions{}),
+  CHECK_THROWS_WITH(ImputeMotion(model, m, missing, ImputeOptions{}),
+                    Contains("frame 5") && Contains("root"));
+  CHECK_THROWS_WITH(ImputeMotion(model, testing::MakeWalkingMotion(5), std::vector<uint8_t>(5 * 51),
+                                 ImputeOptions{}),
                     Contains("8 frames"));
   const std::vector<WindowScore> s = ScoreMotion(model, m, 4);
   CHECK(s.size() == 5);  // 0, 4, 8, 12, 13
@@ -171,7 +177,8 @@ TEST_CASE("hgvae ood: scores separate impossible bodies from walks") {
   const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
   std::vector<float> windows;
   for (int s = 0; s < 24; ++s) {
-    const std::vector<float> p = PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8, 30.0, 700 + s));
+    const std::vector<float> p =
+        PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8, 30.0, 700 + s));
     windows.insert(windows.end(), p.begin(), p.end());
   }
   const std::vector<double> clean = model.Score(windows);
@@ -181,7 +188,8 @@ TEST_CASE("hgvae ood: scores separate impossible bodies from walks") {
 
 TEST_CASE("hgvae sampling: shapes, seeds") {
   const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
-  const std::vector<float> a = model.Sample(3, -1, 4), b = model.Sample(3, -1, 4), c = model.Sample(3, -1, 5);
+  const std::vector<float> a = model.Sample(3, -1, 4), b = model.Sample(3, -1, 4),
+                           c = model.Sample(3, -1, 5);
   CHECK(a.size() == 3u * 8 * 48);
   CHECK(a == b);
   CHECK(a != c);

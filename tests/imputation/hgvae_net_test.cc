@@ -1,14 +1,16 @@
 // The HG-VAE network: shapes for several level layouts, KL, stochastic depth, gradients.
+#include "imputation/hgvae_net.h"
+
 #include <catch2/catch.hpp>
 
 #include "config/hgvae_config.h"
-#include "imputation/hgvae_net.h"
 
 using namespace motionfork;
 
 namespace {
 
-HgvaeOptions Options(std::vector<HgvaeLevel> levels, int stochastic = 0, bool predicted_variance = false) {
+HgvaeOptions Options(std::vector<HgvaeLevel> levels, int stochastic = 0,
+                     bool predicted_variance = false) {
   HgvaeOptions o;
   o.levels = std::move(levels);
   o.width = 24;
@@ -30,7 +32,8 @@ TEST_CASE("hgvae net: shapes, KL and score for 1, 2 and 4 levels, with and witho
         HgvaeNet net(Options(levels, 0, predicted), 12, 6, classes);
         const torch::Tensor x = torch::randn({12, 5, 6});
         torch::Tensor labels;
-        if (classes > 0) labels = torch::zeros({5, classes}).index_fill_(1, torch::tensor({1}), 1.0);
+        if (classes > 0)
+          labels = torch::zeros({5, classes}).index_fill_(1, torch::tensor({1}), 1.0);
         const HgvaeOutput o = net->forward(x, labels, LatentMode::kSample);
         CHECK(o.x_mean.sizes() == torch::IntArrayRef({12, 5, 6}));
         CHECK(o.x_logvar.sizes() == torch::IntArrayRef({12, 5, 6}));
@@ -58,9 +61,12 @@ TEST_CASE("hgvae net: posterior means are deterministic, samples follow the gene
   torch::NoGradGuard no_grad;
   CHECK(torch::equal(net->forward(x, {}, LatentMode::kPosteriorMean).x_mean,
                      net->forward(x, {}, LatentMode::kPosteriorMean).x_mean));
-  const auto a = net->forward(x, {}, LatentMode::kSample, at::make_generator<at::CPUGeneratorImpl>(5)).z[1];
-  const auto b = net->forward(x, {}, LatentMode::kSample, at::make_generator<at::CPUGeneratorImpl>(5)).z[1];
-  const auto c = net->forward(x, {}, LatentMode::kSample, at::make_generator<at::CPUGeneratorImpl>(6)).z[1];
+  const auto a =
+      net->forward(x, {}, LatentMode::kSample, at::make_generator<at::CPUGeneratorImpl>(5)).z[1];
+  const auto b =
+      net->forward(x, {}, LatentMode::kSample, at::make_generator<at::CPUGeneratorImpl>(5)).z[1];
+  const auto c =
+      net->forward(x, {}, LatentMode::kSample, at::make_generator<at::CPUGeneratorImpl>(6)).z[1];
   CHECK(torch::equal(a, b));
   CHECK_FALSE(torch::equal(a, c));
 }
@@ -100,6 +106,8 @@ TEST_CASE("hgvae net: the Gaussian log-likelihood matches the formula") {
   const torch::Tensor x = torch::tensor({0.5f, -1.0f}).view({2, 1, 1});
   const torch::Tensor mean = torch::tensor({0.0f, 0.0f}).view({2, 1, 1});
   const torch::Tensor logvar = torch::tensor({0.0f, std::log(4.0f)}).view({2, 1, 1});
-  const double expected = -0.5 * (std::log(2 * M_PI) + 0.25) - 0.5 * (std::log(2 * M_PI) + std::log(4.0) + 0.25);
-  CHECK(HgvaeNetImpl::GaussianLogLik(x, mean, logvar).item<double>() == Approx(expected).epsilon(1e-6));
+  const double expected =
+      -0.5 * (std::log(2 * M_PI) + 0.25) - 0.5 * (std::log(2 * M_PI) + std::log(4.0) + 0.25);
+  CHECK(HgvaeNetImpl::GaussianLogLik(x, mean, logvar).item<double>() ==
+        Approx(expected).epsilon(1e-6));
 }

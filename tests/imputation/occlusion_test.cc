@@ -1,10 +1,10 @@
 // Occlusion masks, mask specs and AUROC.
-#include <catch2/catch.hpp>
+#include "imputation/occlusion.h"
 
+#include <catch2/catch.hpp>
 #include <numeric>
 
 #include "imputation/hgvae_experiments.h"
-#include "imputation/occlusion.h"
 #include "io/npy.h"
 #include "test_support.h"
 
@@ -50,7 +50,8 @@ TEST_CASE("occlusion: mask specs and their errors") {
   CHECK(std::accumulate(r.begin(), r.end(), 0) == 96);
   for (int t = 0; t < 4; ++t)
     for (int a = 0; a < 3; ++a) CHECK(r[t * 51 + a] == 0);  // never the root
-  CHECK_THROWS_WITH(MaskFromSpec("joints:Hand_X", *skel, 6, 0), Contains("Hand_X") && Contains("Hand_L"));
+  CHECK_THROWS_WITH(MaskFromSpec("joints:Hand_X", *skel, 6, 0),
+                    Contains("Hand_X") && Contains("Hand_L"));
   CHECK_THROWS_WITH(MaskFromSpec("joints:Hips", *skel, 6, 0), Contains("root"));
   CHECK_THROWS_WITH(MaskFromSpec("joints:Head@4-9", *skel, 6, 0), Contains("0..5"));
   CHECK_THROWS_WITH(MaskFromSpec("random:2", *skel, 6, 0), Contains("between 0 and 1"));
@@ -66,10 +67,12 @@ TEST_CASE("occlusion: a joints x frames mask file") {
   const auto m = MaskFromSpec(dir.file("m.npy"), *skel, 4, 0);
   CHECK(std::accumulate(m.begin(), m.end(), 0) == 3);
   CHECK(m[2 * 51 + 39] == 1);
-  CHECK_THROWS_WITH(MaskFromSpec(dir.file("m.npy"), *skel, 5, 0), Contains("[5, 17]") && Contains("[4, 17]"));
+  CHECK_THROWS_WITH(MaskFromSpec(dir.file("m.npy"), *skel, 5, 0),
+                    Contains("[5, 17]") && Contains("[4, 17]"));
   a.data[17] = 1;  // frame 1, the root
   WriteNpy(dir.file("root.npy"), a);
-  CHECK_THROWS_WITH(MaskFromSpec(dir.file("root.npy"), *skel, 4, 0), Contains("frame 1") && Contains("root"));
+  CHECK_THROWS_WITH(MaskFromSpec(dir.file("root.npy"), *skel, 4, 0),
+                    Contains("frame 1") && Contains("root"));
 }
 
 TEST_CASE("auroc: perfect, reversed, ties and chance") {

@@ -29,7 +29,8 @@ Prediction MakePrediction(int k) {
   p.skeleton = MakeHumanoid();
   p.fixed_parts = {"legs"};
   p.positions.resize(static_cast<size_t>(k) * p.frames() * p.joints() * 3);
-  for (size_t i = 0; i < p.positions.size(); ++i) p.positions[i] = 0.001f * static_cast<float>(i % 977) - 0.3f;
+  for (size_t i = 0; i < p.positions.size(); ++i)
+    p.positions[i] = 0.001f * static_cast<float>(i % 977) - 0.3f;
   for (int s = 0; s < k; ++s) {
     SampleValidity v;
     v.valid = s % 2 == 0;
@@ -82,8 +83,8 @@ TEST_CASE("prediction files round-trip every field", "[io][prediction]") {
 
 TEST_CASE("prediction files: bad input names the file and what is wrong", "[io][prediction]") {
   TempDir dir;
-  CHECK_THROWS_WITH(ReadPrediction(dir.file("missing.json")), Catch::Contains("missing.json") &&
-                                                                  Catch::Contains("not found"));
+  CHECK_THROWS_WITH(ReadPrediction(dir.file("missing.json")),
+                    Catch::Contains("missing.json") && Catch::Contains("not found"));
   const Prediction p = MakePrediction(2);
   WritePrediction(dir.file("a"), p);
 

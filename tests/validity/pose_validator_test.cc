@@ -1,5 +1,7 @@
 // PoseValidator: angle ranges and the pose prior of a model bundle, judged on the demo walk (a
 // plausible motion the project makes itself) and on the same walk with a knee bent backwards.
+#include "validity/pose_validator.h"
+
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -10,7 +12,6 @@
 #include "core/demo_motion.h"
 #include "core/error.h"
 #include "test_support.h"
-#include "validity/pose_validator.h"
 
 namespace motionfork {
 namespace {
@@ -21,14 +22,16 @@ const std::string kConstraints = std::string(MOTIONFORK_CONFIG_DIR) + "/constrai
 const std::string kPrior = std::string(MOTIONFORK_SOURCE_DIR) + "/models/prior-bandai";
 
 std::shared_ptr<const Skeleton> BandaiSkeleton() {
-  return LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "bandai")).skeleton;
+  return LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "bandai"))
+      .skeleton;
 }
 
 // The walk with the left knee pushed 15 cm behind the hip-ankle line from frame `from` on.
 Motion WithBackwardKnee(const Motion& walk, int from) {
   std::vector<float> p = walk.positions();
   const Skeleton& s = walk.skeleton();
-  const int J = s.num_joints(), knee = s.Index("LowerLeg_L"), hip = s.Index("UpperLeg_L"), ankle = s.Index("Foot_L");
+  const int J = s.num_joints(), knee = s.Index("LowerLeg_L"), hip = s.Index("UpperLeg_L"),
+            ankle = s.Index("Foot_L");
   for (int t = from; t < walk.num_frames(); ++t) {
     float* f = &p[static_cast<size_t>(t) * J * 3];
     for (int c = 0; c < 3; ++c) f[3 * knee + c] = 0.5f * (f[3 * hip + c] + f[3 * ankle + c]);
@@ -107,17 +110,20 @@ TEST_CASE("broken judges are refused with the file named") {
   fs::create_directories(dir.path() / "empty_prior");
   CHECK_THROWS_WITH(PoseValidator(skeleton, 30, "", (dir.path() / "empty_prior").string()),
                     Catch::Contains("prior.yaml"));
-  CHECK_THROWS_WITH(AttachToBundle((dir.path() / "b").string(), "", (dir.path() / "empty_prior").string()),
-                    Catch::Contains("prior.yaml"));
+  CHECK_THROWS_WITH(
+      AttachToBundle((dir.path() / "b").string(), "", (dir.path() / "empty_prior").string()),
+      Catch::Contains("prior.yaml"));
   CHECK_FALSE(fs::exists(dir.path() / "b" / "prior"));
   // A constraint set naming joints this skeleton does not have (H36M's on Bandai).
-  CHECK_THROWS(PoseValidator(skeleton, 30, std::string(MOTIONFORK_CONFIG_DIR) + "/constraints/h36m.yaml", ""));
+  CHECK_THROWS(PoseValidator(skeleton, 30,
+                             std::string(MOTIONFORK_CONFIG_DIR) + "/constraints/h36m.yaml", ""));
   // A constraint file that is not YAML.
   const std::string junk = (dir.path() / "junk.yaml").string();
   std::ofstream(junk) << "constraints: [unclosed\n";
   CHECK_THROWS_WITH(PoseValidator(skeleton, 30, junk, ""), Catch::Contains("junk.yaml"));
   // The Bandai prior on the H36M skeleton (other joints): refused.
-  const auto h36m = LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "h36m")).skeleton;
+  const auto h36m =
+      LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "h36m")).skeleton;
   CHECK_THROWS(PoseValidator(h36m, 50, "", kPrior));
 }
 
