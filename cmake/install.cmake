@@ -1,6 +1,6 @@
 # `cmake --install BUILD [--prefix PREFIX]`: motionfork as a CMake package another project finds
 # with find_package(motionfork) and links as motionfork::api.
-#   include/motionfork/motionfork.h     the public API (std types only)
+#   include/motionfork/motionfork.h     the public API (std types only), version.h its version
 #   lib/libmotionfork_*.a               motionfork_api and the static libraries it is built on
 #   share/motionfork/configs/           the shipped configs (the API looks here; src/api)
 #   lib/cmake/motionfork/               motionforkConfig.cmake, its version file, the targets
@@ -69,6 +69,8 @@ install(TARGETS ${MOTIONFORK_EXPORTED_TARGETS} EXPORT motionforkTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/motionfork
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT sdk)
+install(FILES ${PROJECT_BINARY_DIR}/include/motionfork/version.h
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/motionfork COMPONENT sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/configs/
         DESTINATION ${MOTIONFORK_INSTALL_CONFIG_DIR} COMPONENT sdk)
 install(EXPORT motionforkTargets NAMESPACE motionfork:: FILE motionforkTargets.cmake

@@ -12,6 +12,12 @@ namespace motionfork::app {
 std::string ConfigDir(const std::string& flag_value) {
   if (!flag_value.empty()) return flag_value;
   if (const char* env = std::getenv("MOTIONFORK_CONFIG_DIR"); env && *env) return env;
+  // The source tree's configs for a build used in place; the installed ones for `cmake --install`
+  // (the tree may be gone).
+  if (std::filesystem::is_directory(MOTIONFORK_CONFIG_DIR)) return MOTIONFORK_CONFIG_DIR;
+  if (std::filesystem::is_directory(MOTIONFORK_INSTALLED_CONFIG_DIR)) {
+    return MOTIONFORK_INSTALLED_CONFIG_DIR;
+  }
   return MOTIONFORK_CONFIG_DIR;
 }
 

@@ -11,7 +11,8 @@ namespace motionfork::app {
 constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 2;
 
-// --config-dir, else $MOTIONFORK_CONFIG_DIR, else the source tree's configs/.
+// --config-dir, else $MOTIONFORK_CONFIG_DIR, else the source tree's configs/ when it exists, else
+// the installed configs (<prefix>/share/motionfork/configs).
 std::string ConfigDir(const std::string& flag_value);
 
 // --cache-dir, else $MOTIONFORK_CACHE_DIR, else $XDG_CACHE_HOME/motionfork, else

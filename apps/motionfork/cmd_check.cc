@@ -259,7 +259,7 @@ void PrintText(const CheckOptions& o, const Bound& b, const CheckResult& r, cons
 
 void RunCheck(const CheckOptions& o, GlobalOptions& g) {
   const std::string config_dir = ConfigDir(g.config_dir);
-  const LoadedMotion lm = LoadMotionInput(o.file, o.input, config_dir);
+  const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
   const Bound b = ChooseSet(o, lm, config_dir);
   const CheckResult r = Check(*b.set, b.motion);
   const CheckSummary s = Summarize(*b.set, r, o.worst);

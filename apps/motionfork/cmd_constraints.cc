@@ -15,6 +15,7 @@
 #include "constraints/fit.h"
 #include "dataset/dataset.h"
 #include "dataset_loading.h"
+#include "flags.h"
 #include "io/file_util.h"
 
 namespace motionfork::app {
@@ -234,7 +235,8 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global) {
   fit->add_option("--data", f->data, "Data folder of the protocol (as for 'dataset stats')")
       ->required()
       ->check(CLI::ExistingDirectory);
-  fit->add_option("-o,--output", f->output, "Constraint YAML to write")->required();
+  fit->add_option("-o,--out", f->output, "Constraint YAML to write (required)");
+  AddDeprecatedOption(fit, "--output", "-o/--out", &f->output);
   fit->add_option("--constraints", f->constraints,
                   "Definitions: shipped name or YAML path (ranges optional)");
   fit->add_option("--split", f->split_file, "Split file overriding the protocol's split.file");
@@ -245,7 +247,10 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global) {
   fit->add_option(
       "--round", f->fit.round_deg,
       "Round the bounds outwards to a multiple of this many degrees (default 0.1; 0 = off)");
-  fit->callback([f, &global] { RunFit(*f, global); });
+  fit->callback([f, &global] {
+    RequireArgument(f->output, "-o,--out");
+    RunFit(*f, global);
+  });
 
   auto s = std::make_shared<ShowOptions>();
   CLI::App* show = cmd->add_subcommand(

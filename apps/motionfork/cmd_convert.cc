@@ -20,7 +20,8 @@ struct ConvertOptions {
 
 void RunConvert(const ConvertOptions& o, const GlobalOptions& g) {
   FormatOfPath(o.out);  // fail on an unknown output extension before any reading
-  LoadedMotion lm = LoadMotionInput(o.in, o.input, ConfigDir(g.config_dir));
+  LoadedMotion lm =
+      pipeline::LoadMotionInput(o.in, WithConfigDir(o.input, ConfigDir(g.config_dir)));
   Motion m = std::move(lm.motion);
   if (o.target_fps > 0) m = Resample(m, o.target_fps);
   if (o.root_relative) m = RootRelative(m);

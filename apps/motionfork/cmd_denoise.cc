@@ -19,10 +19,11 @@
 #include "dvae_commands.h"
 #include "eval/metrics.h"
 #include "eval/test_set.h"
+#include "flags.h"
 #include "generator/forecaster.h"
-#include "hgvae_input.h"
 #include "io/file_util.h"
 #include "io/motion_file.h"
+#include "motion_options.h"
 #include "torch_util/threads.h"
 
 namespace motionfork::app {
@@ -60,11 +61,12 @@ void AddDenoiseFlags(CLI::App* cmd, DenoiseFlags* f) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--seed", f->seed, "Seed of the posterior draws (default: the bundle's)")
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--output", f->output,
+  cmd->add_option("--blend", f->output,
                   "fused (the paper's: decoder and input weighted by their variances) or decoder "
                   "(the decoder's\n"
                   "frames alone, smoother); default: the bundle's")
       ->check(CLI::IsMember({"fused", "decoder"}));
+  AddDeprecatedOption(cmd, "--output", "--blend", &f->output);
 }
 
 // ---- denoise ----
@@ -80,12 +82,12 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   PinThreads(o.threads);
   const DvaeModel model = DvaeModel::Load(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
-                                               model.manifest().fps, {}, 0);
-  if (std::find(in.missing.begin(), in.missing.end(), 1) != in.missing.end()) {
-    throw FormatError(o.motion +
-                      ": has missing values; fill them first ('motionfork impute'), then denoise");
-  }
+  const MotionWithGaps in =
+      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
+                                   skeleton, model.manifest().fps, {}, 0);
+  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+  pipeline::RequireComplete(o.motion, in.missing,
+                            "fill them first ('motionfork impute'), then denoise");
   Motion motion = in.motion;
   if (!o.noise.empty()) {
     NoiseSpec spec;
@@ -321,16 +323,9 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     req.seed = o.seed;
     req.repair = false;
     auto score = [&](const std::vector<float>& histories) {
-      const std::vector<float> pred = fc.PredictRootRelative(histories, H, req);
-      double ade = 0, fde = 0;
-      for (int i = 0; i < H; ++i) {
-        const Displacement d =
-            MinDisplacement(pred.data() + static_cast<size_t>(i) * o.k * P * D, o.k, P, D,
-                            fut.data() + static_cast<size_t>(i) * P * D);
-        ade += d.ade;
-        fde += d.fde;
-      }
-      return std::make_pair(ade / H, fde / H);
+      const Displacement d =
+          MeanMinDisplacement(fc.PredictRootRelative(histories, H, req), fut, H, o.k, P, D);
+      return std::make_pair(d.ade, d.fde);
     };
     std::vector<std::vector<float>> contexts;
     for (const auto& [w, s] : picks) {
@@ -382,9 +377,7 @@ void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--model", d->model, "Motion-DVAE bundle folder")
       ->required()
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--motion", d->motion, "Motion file (.npy, .csv, .bvh, .npz)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddMotionArgument(cmd, &d->motion, "Motion file (.npy, .csv, .bvh, .npz)", "--motion");
   cmd->add_option("-o,--out", d->out, "Output motion file (format from the extension)")->required();
   cmd->add_option(
       "--add-noise", d->noise,
@@ -393,7 +386,10 @@ void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--threads", d->threads, "Threads (default 1)")->check(CLI::PositiveNumber);
   AddDenoiseFlags(cmd, &d->flags);
   AddMotionInputOptions(cmd, &d->input);
-  cmd->callback([d, &global] { RunDenoise(*d, global); });
+  cmd->callback([d, &global] {
+    RequireMotion(d->motion);
+    RunDenoise(*d, global);
+  });
 }
 
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {

@@ -15,15 +15,16 @@
 #include "dataset_loading.h"
 #include "eval/metrics.h"
 #include "eval/test_set.h"
+#include "flags.h"
 #include "generator/forecaster.h"
 #include "hgvae_commands.h"
-#include "hgvae_input.h"
 #include "imputation/hgvae_experiments.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
 #include "imputation/occlusion.h"
 #include "io/file_util.h"
 #include "io/motion_file.h"
+#include "motion_options.h"
 
 namespace motionfork::app {
 namespace {
@@ -67,8 +68,10 @@ struct ImputeCmd {
 void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
   const HgvaeModel model = HgvaeModel::Load(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
-                                               model.manifest().fps, o.masks, o.seed);
+  const MotionWithGaps in =
+      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
+                                   skeleton, model.manifest().fps, o.masks, o.seed);
+  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
   const ImputeOptions options = o.flags.Apply(model.manifest().impute);
   MotionImputation r;
   try {
@@ -117,13 +120,12 @@ struct OodCmd {
 void RunOod(const OodCmd& o, GlobalOptions& g) {
   const HgvaeModel model = HgvaeModel::Load(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
-                                               model.manifest().fps, {}, 0);
-  if (std::find(in.missing.begin(), in.missing.end(), 1) != in.missing.end()) {
-    throw FormatError(o.motion +
-                      ": has missing values; impute them first ('motionfork impute'), or score the "
-                      "imputed file");
-  }
+  const MotionWithGaps in =
+      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
+                                   skeleton, model.manifest().fps, {}, 0);
+  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+  pipeline::RequireComplete(o.motion, in.missing,
+                            "impute them first ('motionfork impute'), or score the imputed file");
   std::vector<WindowScore> scores;
   try {
     scores = ScoreMotion(model, in.motion, o.stride > 0 ? o.stride : model.window(),
@@ -132,9 +134,8 @@ void RunOod(const OodCmd& o, GlobalOptions& g) {
     throw FormatError(o.motion + ": " + e.what());
   }
   int flagged = 0;
-  std::printf("window  frames       score   %s\n",
-              "out of distribution (threshold " +
-                  std::to_string(static_cast<int>(std::lround(model.OodThreshold()))) + ")");
+  std::printf("window  frames       score   out of distribution (threshold %ld)\n",
+              std::lround(model.OodThreshold()));
   json windows = json::array();
   for (const WindowScore& s : scores) {
     flagged += s.out_of_distribution;
@@ -390,16 +391,9 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
     // grows with every implausible (e.g. mean-filled) history.
     req.repair = false;
     auto score = [&](const std::vector<float>& histories) {
-      const std::vector<float> pred = fc.PredictRootRelative(histories, H, req);
-      double ade = 0, fde = 0;
-      for (int i = 0; i < H; ++i) {
-        const Displacement d =
-            MinDisplacement(pred.data() + static_cast<size_t>(i) * o.k * P * D, o.k, P, D,
-                            fut.data() + static_cast<size_t>(i) * P * D);
-        ade += d.ade;
-        fde += d.fde;
-      }
-      return std::make_pair(ade / H, fde / H);
+      const Displacement d =
+          MeanMinDisplacement(fc.PredictRootRelative(histories, H, req), fut, H, o.k, P, D);
+      return std::make_pair(d.ade, d.fde);
     };
     std::printf("\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE from\n",
                 o.forecaster.c_str(), o.k, H);
@@ -451,9 +445,7 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--model", o->model,
                   "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae")
       ->required();
-  cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
   cmd->add_option(
       "--mask", o->masks,
       "Values to treat as missing, repeatable: random:SHARE (e.g. random:0.1), joints:A,B (every "
@@ -465,7 +457,10 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   AddImputeFlags(cmd, &o->flags);
   cmd->add_option("-o,--out", o->out, "Output motion file (.npy, .csv or .bvh)")->required();
   AddMotionInputOptions(cmd, &o->input);
-  cmd->callback([o, &global] { RunImpute(*o, global); });
+  cmd->callback([o, &global] {
+    RequireMotion(o->motion);
+    RunImpute(*o, global);
+  });
 }
 
 void AddOodCommand(CLI::App& app, GlobalOptions& global) {
@@ -476,16 +471,17 @@ void AddOodCommand(CLI::App& app, GlobalOptions& global) {
                                      "below the training windows' mean - k std (k in the bundle). "
                                      "Exit status 1 when any window is flagged.");
   cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
-  cmd->add_option("--motion", o->motion, "Motion file (.npy, .csv, .bvh)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
   cmd->add_option("--stride", o->stride,
                   "Frames between window starts (default: the window length)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   cmd->add_option("--json", o->json_out, "Also write the scores to this JSON file");
   AddMotionInputOptions(cmd, &o->input);
-  cmd->callback([o, &global] { RunOod(*o, global); });
+  cmd->callback([o, &global] {
+    RequireMotion(o->motion);
+    RunOod(*o, global);
+  });
 }
 
 void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {

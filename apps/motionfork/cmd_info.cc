@@ -25,7 +25,8 @@ std::string JsonEscape(const std::string& s) {
 }
 
 void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
-  const LoadedMotion lm = LoadMotionInput(o.file, o.input, ConfigDir(g.config_dir));
+  const LoadedMotion lm =
+      pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, ConfigDir(g.config_dir)));
   const Motion& m = lm.motion;
   const Skeleton& s = m.skeleton();
   const BoundingBox box = ComputeBoundingBox(m);

@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "dataset/dataset.h"
 #include "dataset_loading.h"
+#include "flags.h"
 #include "flow/pose_prior.h"
 #include "flow/prior_data.h"
 #include "flow/trainer.h"
@@ -262,7 +263,7 @@ Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const PosePrior prior = PosePrior::Load(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
-  const LoadedMotion lm = LoadMotionInput(o.file, o.input, config_dir);
+  const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
   const Motion motion = OnPriorSkeleton(lm, prior, config_dir);
   std::vector<double> nll = prior.LogProb(motion);
   for (double& v : nll) v = -v;
@@ -403,7 +404,8 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
   sample->add_option("-n,--count", m->count, "Number of poses")
       ->required()
       ->check(CLI::PositiveNumber);
-  sample->add_option("-o,--output", m->output, "Output file (.npy [N, J, 3] or .csv)")->required();
+  sample->add_option("-o,--out", m->output, "Output file (.npy [N, J, 3] or .csv; required)");
+  AddDeprecatedOption(sample, "--output", "-o/--out", &m->output);
   sample->add_option("--seed", m->seed, "Random seed (default 0)");
   sample
       ->add_option("--temperature", m->temperature,
@@ -414,7 +416,10 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
                    "Metropolis-Hastings steps (default 1000; 0 = raw flow samples, fast but mostly "
                    "implausible)")
       ->check(CLI::NonNegativeNumber);
-  sample->callback([m, &global] { RunSample(*m, global); });
+  sample->callback([m, &global] {
+    RequireArgument(m->output, "-o,--out");
+    RunSample(*m, global);
+  });
 }
 
 }  // namespace motionfork::app

@@ -69,7 +69,8 @@ void RunRender(const RenderOptions& o, const GlobalOptions& g) {
     p = ReadPrediction(o.input);
   } else {
     p = render::PredictionFromMotion(
-        LoadMotionInput(o.input, o.input_options, ConfigDir(g.config_dir)).motion);
+        pipeline::LoadMotionInput(o.input, WithConfigDir(o.input_options, ConfigDir(g.config_dir)))
+            .motion);
   }
   if (p.k < 1) throw std::invalid_argument(o.input + ": expected at least one sample, got 0");
   render::SceneOptions scene_options;

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "dvae_commands.h"
 #include "hgvae_commands.h"
+#include "suggest.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 
@@ -21,6 +22,9 @@ int main(int argc, char** argv) {
                ": diverse, controllable human motion prediction.\n"
                "Run 'motionfork SUBCOMMAND --help' for each subcommand's options."};
   app.require_subcommand(1);
+  // Global options are accepted after the subcommand too (`motionfork info x.csv --quiet`), as
+  // git and cargo accept theirs; every subcommand made below inherits this.
+  app.fallthrough();
   app.set_version_flag("--version", MOTIONFORK_VERSION);
   GlobalOptions global;
   app.add_option(
@@ -51,6 +55,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    if (const std::string fix = SuggestFix(app, argc, argv); !fix.empty()) {
+      std::fprintf(stderr, "motionfork: error: %s\n", fix.c_str());
+      return kExitBadInput;
+    }
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitBadInput;
   } catch (const std::exception& e) {

@@ -1,7 +1,6 @@
 #include "motion_options.h"
 
-#include "config/config_paths.h"
-#include "io/motion_file.h"
+#include <cstdio>
 
 namespace motionfork::app {
 
@@ -18,36 +17,15 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
       ->check(CLI::PositiveNumber);
 }
 
-std::vector<uint8_t> ConformMask(const Motion& motion, const std::vector<uint8_t>& missing,
-                                 const SkeletonConfig& config) {
-  // The mask as a motion of 0/1 "positions" goes through the same selection as the motion.
-  const Motion as_motion(motion.skeleton_ptr(), motion.fps(),
-                         std::vector<float>(missing.begin(), missing.end()));
-  const Motion conformed = ConformToSkeleton(as_motion, config);
-  std::vector<uint8_t> out(conformed.positions().size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = conformed.positions()[i] != 0.0f;
-  return out;
+MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir) {
+  o.config_dir = config_dir;
+  return o;
 }
 
-LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& o,
-                             const std::string& config_dir, std::vector<uint8_t>* missing) {
-  LoadedMotion out;
-  MotionReadOptions read;
-  read.bvh.scale_to_metres = o.bvh_scale;
-  read.fps = o.fps > 0 ? o.fps : 30.0;
-  if (!o.skeleton.empty()) {
-    out.skeleton_config =
-        LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", o.skeleton));
-  }
-  const MotionFormat format = FormatOfPath(path);
-  read.missing = missing;
-  out.motion = ReadMotionFile(path, read);
-  if (format == MotionFormat::kNpy && o.fps <= 0) out.fps_assumed = true;
-  if (out.skeleton_config) {
-    if (missing) *missing = ConformMask(out.motion, *missing, *out.skeleton_config);
-    out.motion = ConformToSkeleton(out.motion, *out.skeleton_config);
-  }
-  return out;
+void NoteResampling(const std::string& path, double from_fps, double to_fps) {
+  if (from_fps <= 0) return;
+  std::fprintf(stderr, "note: resampling %s from %.6g Hz to the model's %.6g Hz\n", path.c_str(),
+               from_fps, to_fps);
 }
 
 }  // namespace motionfork::app

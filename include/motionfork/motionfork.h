@@ -2,8 +2,18 @@
 // futures (optionally with some body parts shared by all of them), and check them against the
 // bundle's angle-range constraints.
 //
+// It also repairs histories before forecasting (Imputer: missing joints filled by an HG-VAE;
+// Denoiser: noise removed by a Motion-DVAE), scores poses under the bundle's pose prior, and
+// writes what the `motionfork` command writes (prediction files, BVH). The command and this API
+// run the same pipeline library (src/pipeline), so the same inputs give the same futures.
+//
 // Plain C++17 and std types only: no LibTorch, Eigen or YAML headers. Link `motionfork::api`
 // (CMake: find_package(motionfork) after `cmake --install`; see README.md, "Use it from C++").
+//
+// Thread safety: a loaded Model is immutable; its const methods may be called from several threads
+// at once (each call has its own working memory). Imputer and Denoiser run optimisers on their own
+// state: call one object from one thread at a time (load one per thread to work in parallel).
+// LoadOptions::threads changes process-wide thread pools: set it before starting threads.
 //
 // Conventions: positions are metres in the history's own world frame, stored row-major as
 // [frames, joints, 3] (x, y, z per joint, joints in joint_names() order, root first); frame rates
@@ -24,7 +34,13 @@
 #include <utility>
 #include <vector>
 
+#include "motionfork/version.h"
+
 namespace motionfork {
+
+// The library's version, "MAJOR.MINOR.PATCH" (MOTIONFORK_VERSION_STRING of the headers it was
+// built with; compare to detect a header / library mismatch).
+const char* Version();
 
 // Call first thing in main(). OpenBLAS chooses its kernels from the CPU model when it loads and
 // falls back to a slow generic one (about 5x slower) on CPUs newer than it knows; this re-executes
@@ -70,19 +86,37 @@ struct PredictOptions {
 };
 
 // K futures of one history.
+//
+// Layout: sample i is the history followed by future i, as in the prediction files the command
+// writes (OUT.npy [k, history_frames + frames, joints, 3]); here the shared history frames are
+// stored once (`history`) and the futures apart (`positions`); Sequence(i) joins them.
 struct Futures {
-  int k = 0;       // samples
-  int frames = 0;  // frames per future (Model::future_frames())
-  int joints = 0;  // joints per frame (Model::joint_names().size())
-  double fps = 0;  // Hz
+  int k = 0;               // samples
+  int frames = 0;          // frames per future (Model::future_frames())
+  int joints = 0;          // joints per frame (Model::joint_names().size())
+  double fps = 0;          // Hz
+  int history_frames = 0;  // frames of `history` (Model::history_frames())
   // [k, frames, joints, 3] metres, in the history's world frame. The model predicts poses
   // relative to the root and keeps the root where the history ended.
   std::vector<float> positions;
+  // [history_frames, joints, 3] metres: the history frames the futures continue (after any
+  // repair), in the same frame.
+  std::vector<float> history;
 
-  // Sample i as [frames, joints, 3]; i in [0, k).
+  // Future i as [frames, joints, 3]; i in [0, k).
   const float* sample(int i) const {
     return positions.data() + static_cast<size_t>(i) * frames * joints * 3;
   }
+  // Sample i as the prediction file holds it: [history_frames + frames, joints, 3].
+  std::vector<float> Sequence(int i) const;
+};
+
+// How Model::ExportBvh writes a BVH file.
+struct BvhExportOptions {
+  int sample = -1;  // the sample to write; -1 = every sample, OUT_00.bvh, OUT_01.bvh, ...
+  bool exact_lengths = false;  // false: each bone at its mean length; true: per-frame lengths
+  double scale = 0.01;         // metres per BVH unit (0.01: the file is in centimetres)
+  std::string rotation_order = "ZXY";  // rotation channels' axis order, a permutation of XYZ
 };
 
 // Angle-range check of one motion (e.g. one future), frame by frame.
@@ -154,9 +188,81 @@ class Model {
   // std::invalid_argument when its joints do not include the model's.
   std::vector<float> ReadMotion(const std::string& path) const;
 
+  // True when the bundle carries a pose prior (BUNDLE/prior/).
+  bool has_prior() const;
+  // The prior's negative log-likelihood of each frame's pose, nats (lower = more plausible):
+  // positions [T, J, 3] metres on the model's joints. Throws std::logic_error without a prior.
+  std::vector<double> PriorNll(const std::vector<float>& positions) const;
+
+  // Writes futures as `motionfork predict -o OUT` does: OUT.npy [k, history_frames + frames, J, 3]
+  // and OUT.json (skeleton, parts, each future's validity under the bundle's own constraints and
+  // prior), readable by `motionfork render` and `motionfork export`. `options` are those the
+  // futures were predicted with (recorded in OUT.json). Each file is written all-or-nothing.
+  // Returns OUT (the path without extension).
+  std::string WritePrediction(const std::string& out, const Futures& futures,
+                              const PredictOptions& options = {}) const;
+
+  // Writes samples (history + future) as BVH files of joint rotations on a rest pose, as
+  // `motionfork export` does; `out` ends in .bvh. Returns the paths written.
+  std::vector<std::string> ExportBvh(const std::string& out, const Futures& futures,
+                                     const BvhExportOptions& options = {}) const;
+
  private:
   struct Impl;
   explicit Model(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// A motion with its missing values filled.
+struct Imputed {
+  std::vector<float> positions;  // [T, J, 3] metres; observed values exactly as given
+  int missing_values = 0;        // values that were NaN
+};
+
+// An HG-VAE bundle (hgvae.yaml + hgvae.pt, e.g. models/bandai/hgvae): fills missing joints of a
+// motion from the frames around them.
+class Imputer {
+ public:
+  // Throws std::runtime_error naming the missing or malformed file.
+  static Imputer Load(const std::string& bundle_dir);
+  ~Imputer();
+  Imputer(Imputer&&) noexcept;
+  Imputer& operator=(Imputer&&) noexcept;
+
+  const std::vector<std::string>& joint_names() const;  // the layout of positions, root first
+  double fps() const;                                   // Hz
+  int window_frames() const;  // the motion must have at least this many frames
+
+  // positions: [T, J, 3] metres at fps() on joint_names(); NaN marks a missing value (the root
+  // must be observed). Returns the motion with every NaN filled. Throws std::invalid_argument for
+  // a wrong size, too few frames, a missing root value or a window with nothing observed.
+  Imputed Impute(const std::vector<float>& positions) const;
+
+ private:
+  struct Impl;
+  explicit Imputer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// A Motion-DVAE bundle (dvae.yaml + dvae.pt, e.g. models/bandai/dvae): removes noise from
+// estimated joint positions, in its bundle's mode (regression or optimisation).
+class Denoiser {
+ public:
+  static Denoiser Load(const std::string& bundle_dir);
+  ~Denoiser();
+  Denoiser(Denoiser&&) noexcept;
+  Denoiser& operator=(Denoiser&&) noexcept;
+
+  const std::vector<std::string>& joint_names() const;
+  double fps() const;
+
+  // positions: [T, J, 3] metres at fps() on joint_names(), T >= 2, every value finite. Returns
+  // the denoised motion, same shape; the same input gives the same output.
+  std::vector<float> Denoise(const std::vector<float>& positions) const;
+
+ private:
+  struct Impl;
+  explicit Denoiser(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,5 +1,6 @@
-// motionfork::Model (include/motionfork/motionfork.h) on top of the Forecaster, the angle
-// checker and the motion readers: this file only adapts types and finds configs.
+// motionfork::Model (include/motionfork/motionfork.h) on top of the pipeline library (forecast,
+// judge, write), the angle checker and the motion readers: this file only adapts types and finds
+// configs.
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -15,8 +16,12 @@
 #include "core/resample.h"
 #include "generator/forecaster.h"
 #include "io/motion_file.h"
+#include "io/prediction_file.h"
 #include "motionfork/motionfork.h"
+#include "pipeline/export.h"
+#include "pipeline/predict.h"
 #include "torch_util/threads.h"
+#include "validity/pose_validator.h"
 
 namespace motionfork {
 namespace {
@@ -91,9 +96,17 @@ SampleCheck ToSampleCheck(const ConstraintSet& set, const CheckResult& r) {
 }  // namespace
 
 struct Model::Impl {
-  explicit Impl(Forecaster f) : forecaster(std::move(f)) {}
+  Impl(Forecaster f, const std::string& dir)
+      : forecaster(std::move(f)),
+        bundle_dir(dir),
+        bundle_judge(
+            PoseValidator::FromBundle(dir, forecaster.skeleton(), forecaster.config().fps)),
+        no_judge(forecaster.skeleton(), forecaster.config().fps, "", "") {}
 
   Forecaster forecaster;
+  std::string bundle_dir;
+  PoseValidator bundle_judge;  // the bundle's own constraints and prior (prediction files)
+  PoseValidator no_judge;      // Predict() leaves judging to Check()
   std::vector<Part> parts;
   std::string config_dir, constraint_name, constraint_file;
   std::optional<ConstraintSet> constraints;
@@ -142,7 +155,7 @@ Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
                                 std::to_string(options.threads));
   }
   if (options.threads > 0) PinThreads(options.threads);
-  auto impl = std::make_unique<Impl>(Forecaster::Load(bundle_dir));
+  auto impl = std::make_unique<Impl>(Forecaster::Load(bundle_dir), bundle_dir);
   const Skeleton& skeleton = impl->skeleton();
   const PartPlan& plan = impl->forecaster.parts();
   for (int p = 0; p < plan.num_parts(); ++p) {
@@ -189,13 +202,25 @@ Futures Model::Predict(const std::vector<float>& history, const PredictOptions& 
   request.seed = options.seed;
   request.fixed_parts = options.fixed_parts;
   request.repair = options.repair;
-  Forecast f = impl_->forecaster.Predict(motion, motion.num_frames() - history_frames(), request);
+  pipeline::HistoryInput in;
+  in.motion.motion = motion;
+  in.motion.missing.assign(motion.positions().size(), 0);
+  in.name = "Predict: history";
+  const Prediction p = pipeline::PredictFutures(impl_->forecaster, impl_->bundle_dir,
+                                                impl_->no_judge, std::move(in), request);
   Futures out;
-  out.k = f.k;
-  out.frames = f.t_pred;
-  out.joints = f.joints;
-  out.fps = f.fps;
-  out.positions = std::move(f.futures);
+  out.k = p.k;
+  out.frames = p.t_pred;
+  out.joints = p.joints();
+  out.fps = p.fps;
+  out.history_frames = p.t_his;
+  const size_t frame = static_cast<size_t>(p.joints()) * 3;
+  out.history.assign(p.positions.begin(), p.positions.begin() + p.t_his * frame);
+  out.positions.reserve(static_cast<size_t>(p.k) * p.t_pred * frame);
+  for (int k = 0; k < p.k; ++k) {
+    const float* future = p.sample(k) + p.t_his * frame;
+    out.positions.insert(out.positions.end(), future, future + p.t_pred * frame);
+  }
   return out;
 }
 
@@ -233,6 +258,85 @@ std::vector<float> Model::ReadMotion(const std::string& path) const {
   Motion m = ConformToSkeleton(ReadMotionFile(path, read), onto);
   if (std::abs(m.fps() - fps()) > 1e-6 * fps()) m = Resample(m, fps());
   return m.positions();
+}
+
+}  // namespace motionfork
+
+namespace motionfork {
+
+const char* Version() { return MOTIONFORK_VERSION_STRING; }
+
+std::vector<float> Futures::Sequence(int i) const {
+  if (i < 0 || i >= k) {
+    throw std::invalid_argument("Futures::Sequence: expected a sample in [0, " + std::to_string(k) +
+                                "), got " + std::to_string(i));
+  }
+  std::vector<float> out(history);
+  out.insert(out.end(), sample(i), sample(i) + static_cast<size_t>(frames) * joints * 3);
+  return out;
+}
+
+bool Model::has_prior() const { return impl_->bundle_judge.has_prior(); }
+
+std::vector<double> Model::PriorNll(const std::vector<float>& positions) const {
+  if (!has_prior()) {
+    throw std::logic_error("PriorNll: the bundle '" + impl_->bundle_dir +
+                           "' carries no pose prior (prior/)");
+  }
+  const Motion m = impl_->ToMotion(positions, "PriorNll: positions");
+  return impl_->bundle_judge.PriorNll(m.positions().data(), m.num_frames());
+}
+
+namespace {
+
+// The prediction-file form of futures (history then each future), judged by `judge`.
+Prediction ToPrediction(const Futures& f, const Forecaster& forecaster, const std::string& model,
+                        const PoseValidator& judge, const PredictOptions& options) {
+  const int J = forecaster.skeleton()->num_joints();
+  if (f.joints != J || f.k < 1 || f.frames != forecaster.config().generator.t_pred ||
+      f.history_frames != forecaster.config().generator.t_his ||
+      f.positions.size() != static_cast<size_t>(f.k) * f.frames * J * 3 ||
+      f.history.size() != static_cast<size_t>(f.history_frames) * J * 3) {
+    throw std::invalid_argument(
+        "WritePrediction: expected futures from Model::Predict ([k, frames, " + std::to_string(J) +
+        ", 3] positions and [history_frames, " + std::to_string(J) +
+        ", 3] history), got k = " + std::to_string(f.k) + ", frames = " + std::to_string(f.frames) +
+        ", history_frames = " + std::to_string(f.history_frames) +
+        ", joints = " + std::to_string(f.joints));
+  }
+  ForecastRequest request;
+  request.seed = options.seed;
+  request.fixed_parts = options.fixed_parts;
+  return pipeline::AssemblePrediction(forecaster, model, f.history, f.positions, request, judge);
+}
+
+}  // namespace
+
+std::string Model::WritePrediction(const std::string& out, const Futures& futures,
+                                   const PredictOptions& options) const {
+  return motionfork::WritePrediction(
+      out,
+      ToPrediction(futures, impl_->forecaster, impl_->bundle_dir, impl_->bundle_judge, options));
+}
+
+std::vector<std::string> Model::ExportBvh(const std::string& out, const Futures& futures,
+                                          const BvhExportOptions& options) const {
+  if (out.size() < 4 || out.compare(out.size() - 4, 4, ".bvh") != 0) {
+    throw std::invalid_argument("ExportBvh: expected a path ending in .bvh, got '" + out + "'");
+  }
+  BvhWriteOptions bvh;
+  bvh.scale_to_metres = options.scale;
+  bvh.rotation_order = options.rotation_order;
+  bvh.fit.lengths = options.exact_lengths ? BoneLengths::kExact : BoneLengths::kMean;
+  ValidateBvhWriteOptions(bvh);
+  const Prediction p =
+      ToPrediction(futures, impl_->forecaster, impl_->bundle_dir, impl_->no_judge, {});
+  std::vector<std::string> paths;
+  for (const pipeline::WrittenSample& w :
+       pipeline::ExportPrediction(p, "ExportBvh", out, options.sample, bvh)) {
+    paths.push_back(w.path);
+  }
+  return paths;
 }
 
 }  // namespace motionfork

@@ -100,6 +100,30 @@ Displacement MinDisplacement(const float* samples, int K, int T, int D, const fl
   return best;
 }
 
+Displacement MeanMinDisplacement(const std::vector<float>& predictions,
+                                 const std::vector<float>& futures, int H, int K, int T, int D) {
+  const size_t per_future = static_cast<size_t>(T) * D;
+  if (H < 1 || predictions.size() != static_cast<size_t>(H) * K * per_future ||
+      futures.size() != static_cast<size_t>(H) * per_future) {
+    throw std::invalid_argument("MeanMinDisplacement: expected predictions [" + std::to_string(H) +
+                                ", " + std::to_string(K) + ", " + std::to_string(T) + ", " +
+                                std::to_string(D) + "] and futures [" + std::to_string(H) + ", " +
+                                std::to_string(T) + ", " + std::to_string(D) + "], got " +
+                                std::to_string(predictions.size()) + " and " +
+                                std::to_string(futures.size()) + " values");
+  }
+  Displacement mean;
+  for (int h = 0; h < H; ++h) {
+    const Displacement d = MinDisplacement(predictions.data() + h * K * per_future, K, T, D,
+                                           futures.data() + h * per_future);
+    mean.ade += d.ade;
+    mean.fde += d.fde;
+  }
+  mean.ade /= H;
+  mean.fde /= H;
+  return mean;
+}
+
 void DisplacementWorkspace::Run(const float* samples, int K, int T, int D,
                                 const std::vector<const float*>& truths,
                                 std::vector<Displacement>* out) {

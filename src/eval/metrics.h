@@ -28,6 +28,12 @@ struct Displacement {
 // separately (they may pick different samples), as in DLow's code. Throws for K < 1.
 Displacement MinDisplacement(const float* samples, int K, int T, int D, const float* truth);
 
+// The forecasting score of many histories: the mean over histories h of MinDisplacement of
+// predictions [H, K, T, D] (history h's K samples) to futures [H, T, D]. Throws
+// std::invalid_argument when the sizes do not match H, K, T, D.
+Displacement MeanMinDisplacement(const std::vector<float>& predictions,
+                                 const std::vector<float>& futures, int H, int K, int T, int D);
+
 // The same figures for many ground truths at once (MMADE / MMFDE need one per member of a
 // multimodal set) through per-frame matrix products in single precision, on poses centred on the
 // first sample (distances within 1 cm recomputed directly). Agrees with MinDisplacement to ~1e-6 m.

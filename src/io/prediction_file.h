@@ -31,6 +31,10 @@ struct HistoryImputation {
   int missing_values = 0;   // in the history frames
   double score_before = 0;  // posterior score with the missing values at the training mean
   double score_after = 0;   // imputed
+  // For reports, not written to OUT.json: the score's name and the training windows' mean and
+  // standard deviation of it.
+  std::string score_kind;
+  double training_mean = 0, training_std = 0;
 };
 
 struct HistoryDenoising {
@@ -38,6 +42,7 @@ struct HistoryDenoising {
   std::string mode;        // regression | optimisation
   int frames = 0;          // frames denoised: the history and up to one window before it
   double mean_change = 0;  // mean distance moved per history joint, metres
+  int first_frame = 0;     // first frame denoised (for reports, not written to OUT.json)
 };
 
 struct Prediction {

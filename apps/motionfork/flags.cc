@@ -1,0 +1,58 @@
+#include "flags.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "io/file_util.h"
+
+namespace motionfork::app {
+
+void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
+                         const std::string& new_spelling, std::string* target) {
+  cmd->add_option_function<std::string>(
+         old_flag,
+         [old_flag, new_spelling, target](const std::string& value) {
+           std::fprintf(stderr,
+                        "motionfork: note: %s is deprecated, write %s instead (the old spelling "
+                        "goes away in the next release)\n",
+                        old_flag.c_str(), new_spelling.c_str());
+           *target = value;
+         },
+         "Deprecated: " + new_spelling)
+      ->group("");  // hidden from --help
+}
+
+void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,
+                       const std::string& old_flag) {
+  cmd->add_option("MOTION", *path, help)->check(CLI::ExistingFile);
+  if (!old_flag.empty()) {
+    AddDeprecatedOption(cmd, old_flag, "the motion file as the first argument", path);
+  }
+}
+
+void RequireMotion(const std::string& path) {
+  RequireArgument(path, "MOTION (the motion file, first argument)");
+}
+
+void RequireArgument(const std::string& value, const std::string& name) {
+  if (value.empty()) throw CLI::RequiredError(name);
+}
+
+void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what) {
+  cmd->add_option("--json", *destination,
+                  what + " as JSON: written to FILE, or printed on stdout with '-' or no FILE")
+      ->expected(0, 1)
+      ->default_str("-")
+      ->type_name("[FILE]");
+}
+
+void EmitJson(const std::string& destination, const nlohmann::json& report) {
+  if (destination.empty()) return;
+  if (destination == "-") {
+    std::printf("%s\n", report.dump(2).c_str());
+  } else {
+    WriteFileAtomically(destination, report.dump(2) + "\n");
+  }
+}
+
+}  // namespace motionfork::app

@@ -1,0 +1,32 @@
+// One grammar for the command line: the spellings many subcommands share (the motion argument,
+// -o/--out, --json [FILE]) and old spellings kept for one release with a deprecation note.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+
+namespace motionfork::app {
+
+// A hidden option `old_flag` that sets *target like `new_spelling` does and prints a note on
+// stderr saying what to write instead (the old spelling goes away in the next release).
+void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
+                         const std::string& new_spelling, std::string* target);
+
+// The motion file a subcommand reads, named by its first argument (MOTION); `old_flag` (e.g.
+// --history) is accepted for one release. Call RequireMotion(path) in the subcommand's callback.
+void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,
+                       const std::string& old_flag = "");
+// Throws CLI::RequiredError when no motion was named.
+void RequireMotion(const std::string& path);
+// Throws CLI::RequiredError naming `name` when `value` is empty (an option required in one of
+// two spellings, which CLI11 cannot require itself).
+void RequireArgument(const std::string& value, const std::string& name);
+
+// --json [FILE]: the report as JSON, written to FILE, or printed on stdout when FILE is '-' or
+// left out.
+void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what);
+// Prints (destination "-") or writes atomically (any other path) the report; "" = nothing.
+void EmitJson(const std::string& destination, const nlohmann::json& report);
+
+}  // namespace motionfork::app

@@ -1,0 +1,128 @@
+#include "pipeline/motion_input.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "config/config_paths.h"
+#include "core/error.h"
+#include "core/resample.h"
+#include "imputation/occlusion.h"
+#include "io/motion_file.h"
+
+namespace motionfork::pipeline {
+
+std::vector<uint8_t> ConformMask(const Motion& motion, const std::vector<uint8_t>& missing,
+                                 const SkeletonConfig& config) {
+  // The mask as a motion of 0/1 "positions" goes through the same selection as the motion.
+  const Motion as_motion(motion.skeleton_ptr(), motion.fps(),
+                         std::vector<float>(missing.begin(), missing.end()));
+  const Motion conformed = ConformToSkeleton(as_motion, config);
+  std::vector<uint8_t> out(conformed.positions().size());
+  for (size_t i = 0; i < out.size(); ++i) out[i] = conformed.positions()[i] != 0.0f;
+  return out;
+}
+
+namespace {
+
+// A CSV names its skeleton (skeleton=NAME, as motionfork writes it) but stores no parents: the
+// skeleton config of that name gives them when its joints are the file's (by name, any order).
+// Returns the config, or nothing when there is none or its joints differ.
+std::optional<SkeletonConfig> NamedSkeleton(const Motion& motion, const std::string& config_dir) {
+  const Skeleton& s = motion.skeleton();
+  if (!s.is_anonymous() || config_dir.empty() || s.name().empty()) return std::nullopt;
+  const std::filesystem::path file =
+      std::filesystem::path(config_dir) / "skeletons" / (s.name() + ".yaml");
+  if (!std::filesystem::is_regular_file(file)) return std::nullopt;
+  SkeletonConfig config = LoadSkeletonConfig(file.string());
+  std::vector<std::string> have = s.joint_names();
+  std::sort(have.begin(), have.end());
+  for (const auto& candidate : {config.skeleton, config.source}) {
+    std::vector<std::string> want = candidate->joint_names();
+    std::sort(want.begin(), want.end());
+    if (want == have) {
+      SkeletonConfig onto;
+      onto.path = config.path;
+      onto.skeleton = onto.source = candidate;
+      return onto;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& options,
+                             std::vector<uint8_t>* missing) {
+  LoadedMotion out;
+  MotionReadOptions read;
+  read.bvh.scale_to_metres = options.bvh_scale;
+  read.fps = options.fps > 0 ? options.fps : 30.0;
+  if (!options.skeleton.empty()) {
+    out.skeleton_config =
+        LoadSkeletonConfig(ResolveConfigPath(options.config_dir, "skeletons", options.skeleton));
+  }
+  const MotionFormat format = FormatOfPath(path);
+  read.missing = missing;
+  out.motion = ReadMotionFile(path, read);
+  if (format == MotionFormat::kNpy && options.fps <= 0) out.fps_assumed = true;
+  if (!out.skeleton_config && format == MotionFormat::kCsv) {
+    if (const auto named = NamedSkeleton(out.motion, options.config_dir)) {
+      if (missing) *missing = ConformMask(out.motion, *missing, *named);
+      out.motion = ConformToSkeleton(out.motion, *named);
+    }
+  }
+  if (out.skeleton_config) {
+    if (missing) *missing = ConformMask(out.motion, *missing, *out.skeleton_config);
+    out.motion = ConformToSkeleton(out.motion, *out.skeleton_config);
+  }
+  return out;
+}
+
+MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOptions& options,
+                                  const std::shared_ptr<const Skeleton>& skeleton, double fps,
+                                  const std::vector<std::string>& mask_specs, uint64_t seed) {
+  std::vector<uint8_t> missing;
+  LoadedMotion lm = LoadMotionInput(path, options, &missing);
+  SkeletonConfig onto;
+  onto.skeleton = skeleton;
+  onto.source = lm.skeleton_config ? lm.skeleton_config->source : skeleton;
+  if (lm.skeleton_config) onto.selection = lm.skeleton_config->selection;
+  MotionWithGaps out{ConformToSkeleton(lm.motion, onto), ConformMask(lm.motion, missing, onto)};
+  out.motion = Motion(skeleton, out.motion.fps(), out.motion.positions());
+  if (std::abs(out.motion.fps() - fps) > 1e-6 * fps) {
+    out.resampled_from = out.motion.fps();
+    const Motion mask_motion(skeleton, out.motion.fps(),
+                             std::vector<float>(out.missing.begin(), out.missing.end()));
+    const Motion resampled_mask = Resample(mask_motion, fps);
+    out.motion = Resample(out.motion, fps);
+    out.missing.assign(resampled_mask.positions().size(), 0);
+    for (size_t i = 0; i < out.missing.size(); ++i)
+      out.missing[i] = resampled_mask.positions()[i] > 0.0f;
+  }
+  for (size_t k = 0; k < mask_specs.size(); ++k) {
+    std::vector<uint8_t> m;
+    try {
+      m = MaskFromSpec(mask_specs[k], *skeleton, out.motion.num_frames(), seed + k);
+    } catch (const std::invalid_argument& e) {
+      throw FormatError(path + ": " + e.what());
+    }
+    for (size_t i = 0; i < m.size(); ++i) out.missing[i] |= m[i];
+  }
+  // Missing values hold 0 from here on (whatever the file or a mask covered).
+  std::vector<float> pos = out.motion.positions();
+  for (size_t i = 0; i < pos.size(); ++i) {
+    if (out.missing[i]) pos[i] = 0.0f;
+  }
+  out.motion = Motion(skeleton, out.motion.fps(), std::move(pos));
+  return out;
+}
+
+void RequireComplete(const std::string& path, const std::vector<uint8_t>& missing,
+                     const std::string& what_next) {
+  if (std::find(missing.begin(), missing.end(), 1) != missing.end()) {
+    throw FormatError(path + ": has missing values; " + what_next);
+  }
+}
+
+}  // namespace motionfork::pipeline

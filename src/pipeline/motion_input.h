@@ -1,0 +1,64 @@
+// Reading a motion for a model: the file (BVH, NumPy, CSV) with its missing values, put on the
+// model's skeleton and frame rate, with extra missing values from mask specs. Every command that
+// reads a motion (predict, check, impute, denoise, ood, prior score, render, info, convert) and
+// the C++ API go through here, so a motion means the same thing everywhere.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config/skeleton_config.h"
+#include "core/motion.h"
+#include "core/skeleton.h"
+
+namespace motionfork::pipeline {
+
+// How to read a motion file (the commands' --skeleton, --fps, --bvh-scale).
+struct MotionInputOptions {
+  std::string skeleton;     // skeleton config name or YAML path; "" = as stored in the file
+  double fps = 0;           // Hz, for files that store none; 0 = 30 Hz for those
+  double bvh_scale = 0.01;  // BVH length unit in metres (0.01: centimetres)
+  std::string config_dir;   // the configs folder `skeleton` is looked up in
+};
+
+struct LoadedMotion {
+  Motion motion;
+  std::optional<SkeletonConfig> skeleton_config;  // when MotionInputOptions::skeleton was given
+  bool fps_assumed = false;  // the file stores no frame rate and none was given
+};
+
+// Reads the file; with options.skeleton, puts it on that skeleton (selection, re-ordering). With
+// `missing`, missing values are accepted (NaN in .npy, empty or nan in .csv) and marked there,
+// [T, J, 3] on the loaded motion's joints. Throws FormatError naming the file.
+LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& options,
+                             std::vector<uint8_t>* missing = nullptr);
+
+// A missing-value mask [T, J, 3] following a motion through ConformToSkeleton: a value of the
+// result is missing when any value it was made from was.
+std::vector<uint8_t> ConformMask(const Motion& motion, const std::vector<uint8_t>& missing,
+                                 const SkeletonConfig& config);
+
+// A motion on a model's skeleton and frame rate, with its missing values.
+struct MotionWithGaps {
+  Motion motion;                 // [T, J, 3] metres; missing values hold 0
+  std::vector<uint8_t> missing;  // [T, J, 3], 1 = missing
+  double resampled_from = 0;     // Hz of the file when it was resampled to the model's, else 0
+};
+
+// Reads `path` (missing values allowed), maps it onto `skeleton` by joint names (or the
+// selection of options.skeleton) and resamples it to `fps` Hz; the masks of `mask_specs`
+// (random:SHARE, joints:A,B[@FIRST-LAST], a .npy file; imputation/occlusion.h) are added, random
+// ones seeded with seed + their index. Throws FormatError naming the file.
+MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOptions& options,
+                                  const std::shared_ptr<const Skeleton>& skeleton, double fps,
+                                  const std::vector<std::string>& mask_specs = {},
+                                  uint64_t seed = 0);
+
+// Throws FormatError naming `path` and `what_next` when `missing` marks any value.
+void RequireComplete(const std::string& path, const std::vector<uint8_t>& missing,
+                     const std::string& what_next);
+
+}  // namespace motionfork::pipeline

@@ -1,0 +1,164 @@
+#include "pipeline/predict.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "denoise/dvae_model.h"
+#include "imputation/hgvae_model.h"
+#include "pipeline/history_repair.h"
+#include "validity/pose_validator.h"
+
+namespace motionfork::pipeline {
+namespace {
+
+// The first history frame: `start`, or the last t_his frames when it is -1. Throws FormatError
+// naming the file when the motion is too short.
+int HistoryStart(const HistoryInput& h, int t_his, double fps) {
+  const int frames = h.motion.motion.num_frames();
+  if (frames < t_his || (h.start >= 0 && h.start + t_his > frames)) {
+    char need[160];
+    std::snprintf(need, sizeof(need), "the model needs %d history frames (%.3g s at %.6g Hz)",
+                  t_his, t_his / fps, fps);
+    throw FormatError(h.name + ": " + need +
+                      (h.start >= 0 ? ", frames " + std::to_string(h.start) + ".." +
+                                          std::to_string(h.start + t_his - 1) + " with --start " +
+                                          std::to_string(h.start)
+                                    : std::string()) +
+                      "; the motion has " + std::to_string(frames) + " frames");
+  }
+  return h.start >= 0 ? h.start : frames - t_his;
+}
+
+// Missing values in history frames [start, start + t_his).
+int MissingInHistory(const MotionWithGaps& m, int start, int t_his) {
+  const size_t fv = static_cast<size_t>(m.motion.num_joints()) * 3;
+  return static_cast<int>(std::count(m.missing.begin() + start * fv,
+                                     m.missing.begin() + (start + t_his) * fv, uint8_t{1}));
+}
+
+}  // namespace
+
+Prediction AssemblePrediction(const Forecaster& model, const std::string& model_dir,
+                              const std::vector<float>& history, const std::vector<float>& futures,
+                              const ForecastRequest& request, const PoseValidator& judge) {
+  const ModelConfig& mc = model.config();
+  const int J = model.skeleton()->num_joints();
+  const size_t frame = static_cast<size_t>(J) * 3, future_size = mc.generator.t_pred * frame;
+  if (history.size() != mc.generator.t_his * frame || futures.empty() ||
+      futures.size() % future_size != 0) {
+    throw std::invalid_argument("expected a history [" + std::to_string(mc.generator.t_his) + ", " +
+                                std::to_string(J) + ", 3] and futures [K, " +
+                                std::to_string(mc.generator.t_pred) + ", " + std::to_string(J) +
+                                ", 3], got " + std::to_string(history.size()) + " and " +
+                                std::to_string(futures.size()) + " values");
+  }
+  Prediction p;
+  p.model = model_dir;
+  p.protocol = mc.protocol;
+  p.k = static_cast<int>(futures.size() / future_size);
+  p.t_his = mc.generator.t_his;
+  p.t_pred = mc.generator.t_pred;
+  p.seed = request.seed;
+  p.fps = mc.fps;
+  p.skeleton = model.skeleton();
+  p.fixed_parts = request.fixed_parts;
+  p.positions.reserve(static_cast<size_t>(p.k) * (history.size() + future_size));
+  for (int k = 0; k < p.k; ++k) {
+    p.positions.insert(p.positions.end(), history.begin(), history.end());
+    p.positions.insert(p.positions.end(), futures.begin() + k * future_size,
+                       futures.begin() + (k + 1) * future_size);
+  }
+  // Plausibility of every future (and of the history, for reference).
+  if (judge.has_constraints() || judge.has_prior()) {
+    p.history_validity = judge.Score(history.data(), p.t_his);
+    for (int k = 0; k < p.k; ++k) {
+      p.samples.push_back(judge.Score(futures.data() + k * future_size, p.t_pred));
+    }
+  }
+  return p;
+}
+
+Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
+                          const PoseValidator& validator, HistoryInput in,
+                          const ForecastRequest& request, const HistoryRepair& repair) {
+  const ModelConfig& mc = model.config();
+  const int t_his = mc.generator.t_his;
+  const int start = HistoryStart(in, t_his, mc.fps);
+  Motion history = in.motion.motion;
+  std::optional<HistoryImputation> imputation;
+  if (const int missing = MissingInHistory(in.motion, start, t_his); missing > 0) {
+    if (!repair.imputer) {
+      throw FormatError(in.name + ": the history (frames " + std::to_string(start) + ".." +
+                        std::to_string(start + t_his - 1) + ") has " + std::to_string(missing) +
+                        " missing values; pass --impute DIR (an HG-VAE bundle, e.g. "
+                        "models/bandai/hgvae) to fill them");
+    }
+    CheckImputerFits(*repair.imputer, repair.imputer_dir, model);
+    imputation = ImputeHistory(*repair.imputer, repair.imputer_dir, in.name, start, t_his,
+                               in.motion.missing, &history);
+  }
+  std::optional<HistoryDenoising> denoising;
+  if (repair.denoiser) {
+    denoising =
+        DenoiseHistory(*repair.denoiser, repair.denoiser_dir, in.name, start, t_his, &history);
+  }
+  const Forecast f = model.Predict(history, start, request);
+
+  Prediction p = AssemblePrediction(model, model_dir, f.history, f.futures, request, validator);
+  p.history = in.name;
+  p.start_frame = start;
+  p.imputation = imputation;
+  p.denoising = denoising;
+  return p;
+}
+
+Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
+  const Forecaster model = Forecaster::Load(files.model_dir);
+  const ModelConfig& mc = model.config();
+  if (files.imputer_dir.empty() && !files.masks.empty())
+    throw FormatError("--mask needs --impute (an HG-VAE bundle to fill the values)");
+  HistoryInput in;
+  in.motion = LoadMotionWithGaps(files.history, files.input, model.skeleton(), mc.fps, files.masks,
+                                 files.request.seed);
+  in.name = files.history;
+  in.start = files.start;
+  if (notes) notes->resampled_from = in.motion.resampled_from;
+  // The HG-VAE is loaded only when the history frames have missing values.
+  const int start = HistoryStart(in, mc.generator.t_his, mc.fps);
+  std::optional<HgvaeModel> imputer;
+  std::optional<DvaeModel> denoiser;
+  HistoryRepair repair;
+  if (!files.imputer_dir.empty() && MissingInHistory(in.motion, start, mc.generator.t_his) > 0) {
+    imputer.emplace(HgvaeModel::Load(files.imputer_dir));
+    repair.imputer = &*imputer;
+    repair.imputer_dir = files.imputer_dir;
+  }
+  if (!files.denoiser_dir.empty()) {
+    denoiser.emplace(DvaeModel::Load(files.denoiser_dir));
+    repair.denoiser = &*denoiser;
+    repair.denoiser_dir = files.denoiser_dir;
+  }
+  const PoseValidator validator =
+      PoseValidator::FromBundle(files.model_dir, model.skeleton(), mc.fps);
+  if (notes) {
+    notes->angle_ranges = validator.has_constraints();
+    notes->prior = validator.has_prior();
+  }
+  return PredictFutures(model, files.model_dir, validator, std::move(in), files.request, repair);
+}
+
+ValiditySummary Summarise(const Prediction& p) {
+  ValiditySummary s;
+  double sum = 0;
+  for (const SampleValidity& v : p.samples) {
+    s.valid_futures += v.valid;
+    sum += v.prior_nll.value_or(0.0);
+  }
+  if (!p.samples.empty()) s.mean_prior_nll = sum / p.samples.size();
+  return s;
+}
+
+}  // namespace motionfork::pipeline
