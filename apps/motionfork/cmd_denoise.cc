@@ -19,7 +19,7 @@
 #include "dvae_commands.h"
 #include "eval/metrics.h"
 #include "eval/test_set.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "hgvae_input.h"
 #include "io/file_util.h"
 #include "io/motion_file.h"

@@ -15,7 +15,7 @@
 #include "dataset_loading.h"
 #include "eval/metrics.h"
 #include "eval/test_set.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "hgvae_commands.h"
 #include "hgvae_input.h"
 #include "imputation/hgvae_experiments.h"

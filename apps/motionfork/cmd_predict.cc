@@ -13,7 +13,7 @@
 #include "core/resample.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_model.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "hgvae_input.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"

@@ -17,7 +17,7 @@
 #include "dataset_loading.h"
 #include "flow/flow_module.h"
 #include "flow/pose_prior.h"
-#include "generator/training.h"
+#include "generator/training/training.h"
 #include "io/file_util.h"
 #include "validity/pose_validator.h"
 
