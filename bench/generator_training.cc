@@ -27,8 +27,8 @@
 #include <vector>
 
 #include "bodyparts/part_plan.h"
+#include "bundle/prior_bundle.h"
 #include "config/constraint_config.h"
-#include "config/flow_config.h"
 #include "config/skeleton_config.h"
 #include "constraints/torch/angle_penalty.h"
 #include "flow/flow_module.h"

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
+#include "bundle/hgvae_bundle.h"
 #include "config/config_paths.h"
-#include "config/hgvae_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "core/error.h"
@@ -65,7 +65,7 @@ struct ImputeCmd {
 };
 
 void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
                                                model.manifest().fps, o.masks, o.seed);
@@ -115,7 +115,7 @@ struct OodCmd {
 };
 
 void RunOod(const OodCmd& o, GlobalOptions& g) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in = LoadMotionWithGaps(o.motion, o.input, ConfigDir(g.config_dir), skeleton,
                                                model.manifest().fps, {}, 0);
@@ -174,7 +174,7 @@ struct SampleCmd {
 };
 
 void RunSample(const SampleCmd& o, const GlobalOptions&) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const int ci = model.ClassIndex(o.cls);
   const std::vector<float> w = model.Sample(o.count, ci, o.seed, !o.mean_latents);
   const int T = model.window(), N = model.coords(), J = model.skeleton().num_joints();
@@ -232,7 +232,7 @@ double Mean(const std::vector<double>& v) {
 }
 
 void RunEval(const EvalCmd& o, const GlobalOptions& g) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const HgvaeManifest& m = model.manifest();
   const std::string config_dir = ConfigDir(g.config_dir);
   const ProtocolOptions protocol =

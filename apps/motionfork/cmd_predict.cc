@@ -7,8 +7,9 @@
 #include <sstream>
 
 #include "app_common.h"
+#include "bundle/dvae_bundle.h"
+#include "bundle/hgvae_bundle.h"
 #include "commands.h"
-#include "config/dvae_config.h"
 #include "core/error.h"
 #include "core/resample.h"
 #include "denoise/denoise_metrics.h"
@@ -44,7 +45,7 @@ struct PredictOptions {
 // together with up to one model window of frames before them (never a frame after them).
 HistoryDenoising DenoiseHistory(const std::string& dir, const std::string& file, int start,
                                 int t_his, Motion* history) {
-  const DvaeModel dv = DvaeModel::Load(dir);
+  const DvaeModel dv = LoadDvaeModel(dir);
   if (dv.skeleton().joint_names() != history->skeleton().joint_names() ||
       std::abs(dv.manifest().fps - history->fps()) > 1e-6 * history->fps()) {
     throw FormatError(dir + ": the Motion-DVAE (skeleton '" + dv.skeleton().name() + "', " +
@@ -110,7 +111,7 @@ void RunPredict(const PredictOptions& o, const GlobalOptions& g) {
                         " missing values; pass --impute DIR (an HG-VAE bundle, e.g. "
                         "models/bandai/hgvae) to fill them");
     }
-    const HgvaeModel hg = HgvaeModel::Load(o.impute);
+    const HgvaeModel hg = LoadHgvaeModel(o.impute);
     if (hg.skeleton().joint_names() != model.skeleton()->joint_names() || hg.window() != t_his ||
         std::abs(hg.manifest().fps - mc.fps) > 1e-6 * mc.fps) {
       throw FormatError(

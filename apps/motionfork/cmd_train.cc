@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "bundle/prior_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
@@ -158,7 +159,7 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     std::string dir = cfg.prior;
     const fs::path from_tree = fs::path(config_dir).parent_path() / dir;
     if (!fs::is_directory(dir) && fs::is_directory(from_tree)) dir = from_tree.string();
-    prior = std::make_shared<PosePrior>(PosePrior::Load(dir));
+    prior = std::make_shared<PosePrior>(LoadPosePrior(dir));
     prior->CheckSkeleton(*skeleton.skeleton);
     prior->module()->Freeze();
     const std::vector<int> parents = skeleton.skeleton->parents();

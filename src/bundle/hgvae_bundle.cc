@@ -1,61 +1,17 @@
-#include "config/hgvae_config.h"
+#include "bundle/hgvae_bundle.h"
 
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
+#include "bundle/manifest.h"
+#include "bundle/torch_bundle.h"
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
+#include "core/error.h"
+#include "io/file_util.h"
 
 namespace motionfork {
-
-const char* ToString(ImputeObjective objective) {
-  return objective == ImputeObjective::kPosterior ? "posterior" : "joint";
-}
-
-ImputeObjective ParseImputeObjective(const std::string& text) {
-  if (text == "posterior") return ImputeObjective::kPosterior;
-  if (text == "joint") return ImputeObjective::kJoint;
-  throw std::invalid_argument("impute objective: expected 'posterior' or 'joint', got '" + text +
-                              "'");
-}
-
-void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {
-  auto fail = [](const std::string& m) { throw std::invalid_argument("hgvae model: " + m); };
-  if (o.levels.empty()) fail("levels: expected at least one level");
-  for (size_t l = 0; l < o.levels.size(); ++l) {
-    const HgvaeLevel& v = o.levels[l];
-    const std::string at = "levels[" + std::to_string(l) + "]";
-    if (v.nodes < 0 || v.features < 1) fail(at + ": expected nodes >= 0 and features >= 1");
-    if (num_coords > 0 && v.nodes > num_coords) {
-      fail(at + ": " + std::to_string(v.nodes) + " nodes, more than the " +
-           std::to_string(num_coords) + " coordinates of the full graph");
-    }
-  }
-  const int last = o.levels.back().nodes;
-  if (last != 0 && (num_coords == 0 || last != num_coords)) {
-    fail("the last (bottom) level must be the full graph: nodes 0 (= every coordinate)" +
-         (num_coords > 0 ? ", or " + std::to_string(num_coords) : std::string()) + "; got " +
-         std::to_string(last));
-  }
-  if (o.width < 1) fail("width: expected >= 1, got " + std::to_string(o.width));
-  if (o.encoder_blocks < 0 || o.decoder_blocks < 0)
-    fail("encoder_blocks/decoder_blocks: expected >= 0");
-  if (o.stochastic_levels < 0 || o.stochastic_levels > static_cast<int>(o.levels.size())) {
-    fail("stochastic_levels: expected 0 (all) .. " + std::to_string(o.levels.size()) + ", got " +
-         std::to_string(o.stochastic_levels));
-  }
-  if (o.window < 0) fail("window: expected >= 0 frames, got " + std::to_string(o.window));
-  if (o.label_dropout < 0 || o.label_dropout >= 1) fail("label_dropout: expected in [0, 1)");
-}
-
-HgvaeOptions ResolveHgvaeOptions(HgvaeOptions o, int num_coords, int t_his) {
-  for (HgvaeLevel& l : o.levels) {
-    if (l.nodes == 0) l.nodes = num_coords;
-  }
-  if (o.window == 0) o.window = t_his;
-  ValidateHgvaeOptions(o, num_coords);
-  return o;
-}
 
 namespace {
 
@@ -132,19 +88,8 @@ void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
   out << YAML::EndMap;
 }
 
-template <typename F>
-auto Wrap(const std::string& file, F&& f) {
-  try {
-    return f();
-  } catch (const std::invalid_argument& e) {
-    throw FormatError(FormatMessage(file, "", e.what()));
-  } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(file, "line " + std::to_string(e.mark.line + 1), e.msg));
-  }
-}
-
 HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
-  return Wrap(file, [&] {
+  return WithManifestErrors(file, [&] {
     CheckKeys(file, root, "", {"name", "protocol", "model", "training", "impute", "ood"});
     HgvaeTrainConfig c;
     c.path = file;
@@ -203,21 +148,17 @@ HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text,
   return ParseTrainRoot(source_name, yaml_util::LoadText(yaml_text, source_name));
 }
 
-HgvaeManifest LoadHgvaeManifest(const std::string& path) {
-  const YAML::Node root = yaml_util::LoadFile(path);
-  return Wrap(path, [&] {
+HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checksums) {
+  const YAML::Node root = LoadManifestFile(path);
+  return WithManifestErrors(path, [&] {
     HgvaeManifest m;
-    m.format = Get<std::string>(path, root, "format");
-    if (m.format != kHgvaeBundleFormat) {
-      Fail(path, root["format"],
-           "format: expected '" + std::string(kHgvaeBundleFormat) + "', found '" + m.format +
-               "' (a bundle from another version?)");
-    }
-    const YAML::Node p = Section(path, root, "protocol", true);
-    m.protocol = Get<std::string>(path, p, "name");
-    m.fps = Get<double>(path, p, "fps");
+    ManifestHeader h = ParseManifestHeader(path, root, kHgvaeBundleFormat);
+    m.format = h.format;
+    m.protocol = h.protocol;
+    m.fps = h.fps;
+    m.skeleton = std::move(h.skeleton);
+    if (checksums) *checksums = std::move(h.checksums);
     ParseModel(path, Section(path, root, "model", true), &m.model);
-    m.skeleton = ParseSkeletonSpec(path, root);
     m.classes = yaml_util::StringList(path, root["classes"], "classes");
     const YAML::Node norm = Section(path, root, "normalisation", true);
     m.mean = Get<std::vector<double>>(path, norm, "mean");
@@ -236,23 +177,16 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path) {
     // Bundles written before the key existed hold the paper's posterior score.
     m.ood_score = ParseImputeObjective(GetOr<std::string>(path, ood, "score", "posterior"));
     ParseImpute(path, Section(path, root, "impute", false), &m.impute);
-    if (const YAML::Node info = root["info"]) {
-      for (const auto& kv : info)
-        m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
-    }
+    m.info = ParseManifestInfo(root);
     return m;
   });
 }
 
-std::string FormatHgvaeManifest(const HgvaeManifest& m) {
+std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& checksums) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "format" << YAML::Value << m.format;
-  out << YAML::Key << "protocol" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "name" << YAML::Value << m.protocol;
-  out << YAML::Key << "fps" << YAML::Value << m.fps;
-  out << YAML::EndMap;
+  EmitManifestFormat(out, {m.format, m.protocol, m.fps, {}, {}});
   EmitModel(out, m.model);
   out << YAML::Key << "classes" << YAML::Value << YAML::Flow << m.classes;
   out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
@@ -267,11 +201,35 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m) {
   out << YAML::EndMap;
   EmitImpute(out, m.impute);
   EmitSkeletonSpec(out, m.skeleton);
-  out << YAML::Key << "info" << YAML::Value << YAML::BeginMap;
-  for (const auto& [k, v] : m.info) out << YAML::Key << k << YAML::Value << v;
-  out << YAML::EndMap;
+  EmitManifestChecksums(out, checksums);
+  EmitManifestInfo(out, m.info);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
+}
+
+void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net) {
+  WriteBundle(dir, {{"hgvae.pt", WeightBytes(net)}}, "hgvae.yaml",
+              [&m](const BundleChecksums& sums) { return FormatHgvaeManifest(m, sums); });
+}
+
+HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m) {
+  return LoadTorchBundle<HgvaeManifest, HgvaeNet>(
+      dir, "HG-VAE", "hgvae.yaml", "hgvae.pt", m,
+      [](const std::string& path, BundleChecksums* sums) { return LoadHgvaeManifest(path, sums); },
+      [](const HgvaeManifest& manifest) { return BuildHgvaeNet(manifest); });
+}
+
+HgvaeModel LoadHgvaeModel(const std::string& dir) {
+  HgvaeManifest m;
+  HgvaeNet net = LoadHgvaeBundle(dir, &m);
+  return HgvaeModel::FromNet(std::move(m), std::move(net));
+}
+
+void RewriteHgvaeManifest(const std::string& dir, const HgvaeManifest& m) {
+  const std::string path = (std::filesystem::path(dir) / "hgvae.yaml").string();
+  BundleChecksums sums;
+  LoadHgvaeManifest(path, &sums);
+  WriteFileAtomically(path, FormatHgvaeManifest(m, sums));
 }
 
 }  // namespace motionfork

@@ -1,11 +1,18 @@
-#include "config/flow_config.h"
+#include "bundle/prior_bundle.h"
 
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 
+#include "bundle/bundle_files.h"
+#include "bundle/manifest.h"
 #include "config/yaml_util.h"
+#include "core/error.h"
+#include "flow/flow_module.h"
+#include "io/file_util.h"
+#include "io/npy.h"
 
 namespace motionfork {
 namespace {
@@ -54,14 +61,6 @@ PriorConfig ParseConfigSections(const std::string& file, const YAML::Node& root)
   return c;
 }
 
-std::string Num(double v) {
-  if (std::isnan(v)) return ".nan";
-  if (std::isinf(v)) return v > 0 ? ".inf" : "-.inf";
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.17g", v);
-  return buf;
-}
-
 std::string Quote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
@@ -73,7 +72,7 @@ std::string Quote(const std::string& s) {
 
 std::string NumList(const std::vector<double>& v) {
   std::string s = "[";
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + Num(v[i]);
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + FlowNumberText(v[i]);
   return s + "]";
 }
 
@@ -107,45 +106,11 @@ PriorConfig LoadFlowConfig(const std::string& path) {
   return ParseConfigSections(path, root);
 }
 
-std::string FormatFlowConfig(const PriorConfig& c) {
-  const FlowOptions& m = c.model;
-  const PriorTrainOptions& t = c.training;
-  std::string s;
-  s += "model:\n";
-  s += "  layers: " + std::to_string(m.num_layers) + "\n";
-  s += "  reflections: " + std::to_string(m.num_reflections) + "\n";
-  s += "  prelu_init: " + Num(m.prelu_init) + "\n";
-  s += "training:\n";
-  s += "  epochs: " + std::to_string(t.epochs) + "\n";
-  s += "  constant_epochs: " + std::to_string(t.constant_epochs) + "\n";
-  s += "  batch_size: " + std::to_string(t.batch_size) + "\n";
-  s += "  learning_rate: " + Num(t.learning_rate) + "\n";
-  s += "  weight_decay: " + Num(t.weight_decay) + "\n";
-  s += "  adam_beta1: " + Num(t.adam_beta1) + "\n";
-  s += "  adam_beta2: " + Num(t.adam_beta2) + "\n";
-  s += "  adam_eps: " + Num(t.adam_eps) + "\n";
-  s += "  seed: " + std::to_string(t.seed) + "\n";
-  s += "  held_out_share: " + Num(t.held_out_share) + "\n";
-  s += "  frame_stride: " + std::to_string(t.frame_stride) + "\n";
-  return s;
-}
-
 PriorManifest ParsePriorManifest(const std::string& yaml_text, const std::string& file) {
   const YAML::Node root = LoadText(yaml_text, file);
   PriorManifest m;
-  const std::string format = GetOr<std::string>(file, root, "format", "");
-  if (format != PriorManifest::kFormat) {
-    Fail(file, root,
-         std::string("expected format '") + PriorManifest::kFormat +
-             "' (a motionfork pose-prior bundle), found '" + format + "'");
-  }
-  m.version = Get<int>(file, root, "version");
-  if (m.version < 1 || m.version > PriorManifest::kVersion) {
-    Fail(file, root["version"],
-         "bundle version " + std::to_string(m.version) +
-             " is not readable by this build (reads 1.." + std::to_string(PriorManifest::kVersion) +
-             ")");
-  }
+  m.version = ParseManifestVersion(file, root, PriorManifest::kFormat,
+                                   "a motionfork pose-prior bundle", PriorManifest::kVersion);
   const YAML::Node sk = Section(file, root, "skeleton", true);
   m.skeleton_name = Get<std::string>(file, sk, "name");
   m.skeleton_config = GetOr<std::string>(file, sk, "config", "");
@@ -225,7 +190,7 @@ PriorManifest ParsePriorManifest(const std::string& yaml_text, const std::string
 std::string FormatPriorManifest(const PriorManifest& m) {
   std::string s;
   s += "# motionfork pose prior: a normalizing flow on unit limb directions (GSPS).\n";
-  s += "# Load with PosePrior::Load (src/flow/pose_prior.h) or 'motionfork prior score/sample\n";
+  s += "# Load with LoadPosePrior (src/bundle/prior_bundle.h) or 'motionfork prior score/sample\n";
   s += "# --model DIR'. Weights: weights.npy, float32, the parameters below concatenated in "
        "order.\n";
   s += std::string("format: ") + PriorManifest::kFormat + "\n";
@@ -246,18 +211,18 @@ std::string FormatPriorManifest(const PriorManifest& m) {
   const PriorTrainingSummary& y = m.summary;
   s += "summary:  # NLL in nats per pose (48-D density for 17 joints); lower = more likely\n";
   s += "  protocol: " + Quote(y.protocol) + "\n";
-  s += "  fps: " + Num(y.fps) + "\n";
+  s += "  fps: " + FlowNumberText(y.fps) + "\n";
   s += "  train_frames: " + std::to_string(y.train_frames) + "\n";
   s += "  held_out_frames: " + std::to_string(y.held_out_frames) + "\n";
   s += "  test_frames: " + std::to_string(y.test_frames) + "\n";
   s += "  epochs_completed: " + std::to_string(y.epochs_completed) + "\n";
   s += "  train_nll: " + NumList(y.train_nll) + "\n";
   s += "  held_out_nll: " + NumList(y.held_out_nll) + "\n";
-  s += "  test_nll: " + Num(y.test_nll) + "\n";
-  s += "  held_out_nll_q50: " + Num(y.held_out_nll_q50) + "\n";
-  s += "  held_out_nll_q90: " + Num(y.held_out_nll_q90) + "\n";
-  s += "  held_out_nll_q99: " + Num(y.held_out_nll_q99) + "\n";
-  s += "  seconds: " + Num(y.seconds) + "\n";
+  s += "  test_nll: " + FlowNumberText(y.test_nll) + "\n";
+  s += "  held_out_nll_q50: " + FlowNumberText(y.held_out_nll_q50) + "\n";
+  s += "  held_out_nll_q90: " + FlowNumberText(y.held_out_nll_q90) + "\n";
+  s += "  held_out_nll_q99: " + FlowNumberText(y.held_out_nll_q99) + "\n";
+  s += "  seconds: " + FlowNumberText(y.seconds) + "\n";
   s += "  threads: " + std::to_string(y.threads) + "\n";
   s += "weights:\n";
   s += "  file: " + Quote(m.weights_file) + "\n";
@@ -269,6 +234,117 @@ std::string FormatPriorManifest(const PriorManifest& m) {
     s += "]}\n";
   }
   return s;
+}
+
+namespace {
+
+std::string ShapeText(const std::vector<int64_t>& shape) {
+  std::string s = "[";
+  for (size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
+  return s + "]";
+}
+
+}  // namespace
+
+void SavePosePrior(const PosePrior& prior, const std::string& dir) {
+  PriorManifest m;
+  const Skeleton& s = prior.skeleton();
+  m.skeleton_name = s.name();
+  m.skeleton_config = prior.skeleton_config();
+  m.joint_names = s.joint_names();
+  m.parents = s.parents();
+  m.bone_lengths = prior.bone_lengths();
+  m.dim = prior.dim();
+  m.config = prior.config();
+  m.summary = prior.summary();
+  NpyArray weights;
+  {
+    torch::NoGradGuard no_grad;
+    for (const auto& [name, t] : prior.module()->OrderedParameters()) {
+      m.parameters.push_back({name, t.sizes().vec()});
+      const torch::Tensor c = t.detach().to(torch::kFloat32).contiguous();
+      weights.data.insert(weights.data.end(), c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
+    }
+  }
+  weights.shape = {static_cast<int64_t>(weights.data.size())};
+  WriteBundle(dir, {{m.weights_file, SerializeNpy(weights)}}, "prior.yaml",
+              [&m](const BundleChecksums& sums) {
+                m.weights_checksum = sums.at(m.weights_file);
+                return FormatPriorManifest(m);
+              });
+}
+
+PosePrior LoadPosePrior(const std::string& dir) {
+  namespace fs = std::filesystem;
+  const std::string manifest_path = (fs::path(dir) / "prior.yaml").string();
+  if (!fs::is_regular_file(manifest_path)) {
+    throw FormatError(FormatMessage(dir, "",
+                                    "expected a prior bundle folder holding prior.yaml "
+                                    "(written by 'motionfork prior train'), found none"));
+  }
+  const PriorManifest m = ParsePriorManifest(ReadFileBytes(manifest_path), manifest_path);
+  auto fail = [&](const std::string& what) {
+    throw FormatError(FormatMessage(manifest_path, "", what));
+  };
+  std::shared_ptr<const Skeleton> skeleton;
+  try {
+    skeleton = std::make_shared<const Skeleton>(
+        Skeleton::FromParents(m.skeleton_name, m.joint_names, m.parents));
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("skeleton: ") + e.what());
+  }
+  if (m.dim != 3 * (skeleton->num_joints() - 1)) {
+    fail("dim = " + std::to_string(m.dim) +
+         ", expected 3 x (joints - 1) = " + std::to_string(3 * (skeleton->num_joints() - 1)));
+  }
+  std::unique_ptr<PosePrior> made;
+  try {
+    made = std::make_unique<PosePrior>(skeleton, m.config);
+  } catch (const std::invalid_argument& e) {
+    fail(e.what());
+  }
+  PosePrior prior = std::move(*made);
+  prior.set_skeleton_config(m.skeleton_config);
+  prior.mutable_summary() = m.summary;
+  try {
+    prior.set_bone_lengths(m.bone_lengths);
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("bone_lengths: ") + e.what());
+  }
+  const auto params = prior.module()->OrderedParameters();
+  if (params.size() != m.parameters.size()) {
+    fail("lists " + std::to_string(m.parameters.size()) +
+         " parameters, the model it describes has " + std::to_string(params.size()));
+  }
+  int64_t total = 0;
+  for (size_t i = 0; i < params.size(); ++i) {
+    const auto expected = params[i].second.sizes().vec();
+    if (m.parameters[i].name != params[i].first || m.parameters[i].shape != expected) {
+      fail("parameter " + std::to_string(i) + ": expected '" + params[i].first + "' of shape " +
+           ShapeText(expected) + ", found '" + m.parameters[i].name + "' of shape " +
+           ShapeText(m.parameters[i].shape));
+    }
+    total += params[i].second.numel();
+  }
+  const std::string weights_path = (fs::path(dir) / m.weights_file).string();
+  const std::string bytes =
+      ReadBundleFile(dir, m.weights_file, {{m.weights_file, m.weights_checksum}}, "prior.yaml");
+  const NpyArray w = ParseNpy(bytes, weights_path);
+  if (w.shape != std::vector<int64_t>{total}) {
+    throw FormatError(FormatMessage(
+        weights_path, "",
+        "expected shape [" + std::to_string(total) + "], found " + ShapeText(w.shape)));
+  }
+  torch::NoGradGuard no_grad;
+  int64_t offset = 0;
+  for (const auto& [name, t] : params) {
+    torch::Tensor dst = t;
+    dst.copy_(
+        torch::from_blob(const_cast<float*>(w.data.data()) + offset, t.sizes(), torch::kFloat32)
+            .to(t.dtype()));
+    offset += t.numel();
+  }
+  return prior;
 }
 
 }  // namespace motionfork

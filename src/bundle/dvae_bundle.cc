@@ -1,33 +1,18 @@
-#include "config/dvae_config.h"
+#include "bundle/dvae_bundle.h"
 
+#include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
+#include "bundle/manifest.h"
+#include "bundle/torch_bundle.h"
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
+#include "core/error.h"
 #include "core/motion_noise.h"
+#include "io/file_util.h"
 
 namespace motionfork {
-
-const char* ToString(DenoiseMode mode) {
-  return mode == DenoiseMode::kRegression ? "regression" : "optimisation";
-}
-
-DenoiseMode ParseDenoiseMode(const std::string& text) {
-  if (text == "regression") return DenoiseMode::kRegression;
-  if (text == "optimisation" || text == "optimization") return DenoiseMode::kOptimisation;
-  throw std::invalid_argument("denoise mode: expected 'regression' or 'optimisation', got '" +
-                              text + "'");
-}
-
-void ValidateDvaeOptions(const DvaeOptions& o) {
-  auto fail = [](const std::string& m) { throw std::invalid_argument("dvae model: " + m); };
-  if (o.window < 3) fail("window: expected >= 3 frames, got " + std::to_string(o.window));
-  if (o.hidden < 1 || o.latent < 1) fail("hidden and latent: expected >= 1");
-  if (o.groups < 1 || o.mlp_hidden < o.groups || o.mlp_hidden % o.groups != 0) {
-    fail("mlp_hidden (" + std::to_string(o.mlp_hidden) +
-         ") must be a positive multiple of groups (" + std::to_string(o.groups) + ")");
-  }
-}
 
 namespace {
 
@@ -123,19 +108,8 @@ std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Nod
   return out;
 }
 
-template <typename F>
-auto Wrap(const std::string& file, F&& f) {
-  try {
-    return f();
-  } catch (const std::invalid_argument& e) {
-    throw FormatError(FormatMessage(file, "", e.what()));
-  } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(file, "line " + std::to_string(e.mark.line + 1), e.msg));
-  }
-}
-
 DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
-  return Wrap(file, [&] {
+  return WithManifestErrors(file, [&] {
     CheckKeys(file, root, "",
               {"name", "protocol", "model", "training", "finetune", "noise_prior", "denoise"});
     DvaeTrainConfig c;
@@ -215,21 +189,17 @@ DvaeTrainConfig ParseDvaeTrainConfig(const std::string& yaml_text, const std::st
   return ParseTrainRoot(source_name, yaml_util::LoadText(yaml_text, source_name));
 }
 
-DvaeManifest LoadDvaeManifest(const std::string& path) {
-  const YAML::Node root = yaml_util::LoadFile(path);
-  return Wrap(path, [&] {
+DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksums) {
+  const YAML::Node root = LoadManifestFile(path);
+  return WithManifestErrors(path, [&] {
     DvaeManifest m;
-    m.format = Get<std::string>(path, root, "format");
-    if (m.format != kDvaeBundleFormat) {
-      Fail(path, root["format"],
-           "format: expected '" + std::string(kDvaeBundleFormat) + "', found '" + m.format +
-               "' (a bundle from another version?)");
-    }
-    const YAML::Node p = Section(path, root, "protocol", true);
-    m.protocol = Get<std::string>(path, p, "name");
-    m.fps = Get<double>(path, p, "fps");
+    ManifestHeader h = ParseManifestHeader(path, root, kDvaeBundleFormat);
+    m.format = h.format;
+    m.protocol = h.protocol;
+    m.fps = h.fps;
+    m.skeleton = std::move(h.skeleton);
+    if (checksums) *checksums = std::move(h.checksums);
     ParseModel(path, Section(path, root, "model", true), &m.model);
-    m.skeleton = ParseSkeletonSpec(path, root);
     const YAML::Node norm = Section(path, root, "normalisation", true);
     m.mean = Get<std::vector<double>>(path, norm, "mean");
     m.std = Get<std::vector<double>>(path, norm, "std");
@@ -242,23 +212,16 @@ DvaeManifest LoadDvaeManifest(const std::string& path) {
     m.finetuned = GetOr<bool>(path, root, "finetuned", false);
     if (root["finetune_noise"]) m.finetune_noise = ParseNoiseList(path, root["finetune_noise"]);
     ParseDenoise(path, Section(path, root, "denoise", false), &m.denoise);
-    if (const YAML::Node info = root["info"]) {
-      for (const auto& kv : info)
-        m.info.emplace_back(kv.first.as<std::string>(), kv.second.as<std::string>());
-    }
+    m.info = ParseManifestInfo(root);
     return m;
   });
 }
 
-std::string FormatDvaeManifest(const DvaeManifest& m) {
+std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& checksums) {
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap;
-  out << YAML::Key << "format" << YAML::Value << m.format;
-  out << YAML::Key << "protocol" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "name" << YAML::Value << m.protocol;
-  out << YAML::Key << "fps" << YAML::Value << m.fps;
-  out << YAML::EndMap;
+  EmitManifestFormat(out, {m.format, m.protocol, m.fps, {}, {}});
   EmitModel(out, m.model);
   out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "mean" << YAML::Value << YAML::Flow << m.mean;
@@ -269,11 +232,28 @@ std::string FormatDvaeManifest(const DvaeManifest& m) {
   out << YAML::Key << "finetune_noise" << YAML::Value << YAML::Flow << m.finetune_noise;
   EmitDenoise(out, m.denoise);
   EmitSkeletonSpec(out, m.skeleton);
-  out << YAML::Key << "info" << YAML::Value << YAML::BeginMap;
-  for (const auto& [k, v] : m.info) out << YAML::Key << k << YAML::Value << v;
-  out << YAML::EndMap;
+  EmitManifestChecksums(out, checksums);
+  EmitManifestInfo(out, m.info);
   out << YAML::EndMap;
   return std::string(out.c_str()) + "\n";
+}
+
+void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net) {
+  WriteBundle(dir, {{"dvae.pt", WeightBytes(net)}}, "dvae.yaml",
+              [&m](const BundleChecksums& sums) { return FormatDvaeManifest(m, sums); });
+}
+
+DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m) {
+  return LoadTorchBundle<DvaeManifest, DvaeNet>(
+      dir, "Motion-DVAE", "dvae.yaml", "dvae.pt", m,
+      [](const std::string& path, BundleChecksums* sums) { return LoadDvaeManifest(path, sums); },
+      [](const DvaeManifest& manifest) { return BuildDvaeNet(manifest); });
+}
+
+DvaeModel LoadDvaeModel(const std::string& dir) {
+  DvaeManifest m;
+  DvaeNet net = LoadDvaeBundle(dir, &m);
+  return DvaeModel::FromNet(std::move(m), std::move(net));
 }
 
 }  // namespace motionfork
