@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bundle/dvae_bundle.h"
 #include "core/demo_motion.h"
 #include "core/motion_noise.h"
 #include "denoise/dvae_model.h"
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--iterations") && i + 1 < argc) iterations = std::atoi(argv[++i]);
   }
   PinThreads(threads);
-  const DvaeModel model = DvaeModel::Load(argv[1]);
+  const DvaeModel model = LoadDvaeModel(argv[1]);
   DenoiseOptions reg = model.manifest().denoise;
   if (samples >= 0) reg.samples = samples;
   reg.mode = DenoiseMode::kRegression;

@@ -3,7 +3,7 @@
 //   bench_generator [--threads N]
 //
 // Sizes: 16 nodes, t_his 25, t_pred 100, n_pre 10, hidden 256, 4 blocks, nz 64, 2 parts.
-// Prints, for the fused path (FastGenerator, AVX-512 CPUs) and for the LibTorch network: ms for
+// Prints, for the fused path (FusedGenerator, AVX-512 CPUs) and for the LibTorch network: ms for
 // 50 futures of one history; histories/s for 16 histories x 50 futures; FLOPs and achieved
 // GFLOP/s of the graph-conv products; the process's peak resident memory after each stage; the
 // network's training step (forward + backward, no losses).
@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "fma_peak.h"
-#include "generator/fast_generator.h"
-#include "generator/generator_net.h"
+#include "generator/inference/fused_generator.h"
+#include "generator/model/generator_net.h"
 #include "peak_memory.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
@@ -84,13 +84,13 @@ int main(int argc, char** argv) {
 
   std::printf("peak resident memory with the network built: %.0f MB\n",
               bench::PeakResidentMegabytes());
-  // The fused AVX-512 path (FastGenerator, what Forecaster uses on such CPUs): same work.
-  if (FastGenerator::Available()) {
+  // The fused AVX-512 path (FusedGenerator, what Forecaster uses on such CPUs): same work.
+  if (FusedGenerator::Available()) {
     // The core's peak varies on this machine kind (up to 20% between hours): measured here,
     // before and after, so that the share of peak compares runs.
     bench::PeakGflops(20000000);
     const double peak_before = bench::PeakGflops(100000000);
-    const FastGenerator fast(*net);
+    const FusedGenerator fast(*net);
     auto run_fast = [&](int64_t histories, int64_t k, int reps) {
       const torch::Tensor h = torch::randn({histories, o.t_his, o.num_nodes, 3});
       std::vector<float> out(static_cast<size_t>(histories * k) * o.t_pred * o.num_nodes * 3);

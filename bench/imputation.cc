@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bundle/hgvae_bundle.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/occlusion.h"
 #include "torch_util/blas_core.h"
@@ -41,7 +42,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
   }
   PinThreads(threads);
-  const HgvaeModel model = HgvaeModel::Load(argv[1]);
+  const HgvaeModel model = LoadHgvaeModel(argv[1]);
   ImputeOptions o = model.manifest().impute;
   if (steps >= 0) o.steps = steps;
   const int T = model.window(), N = model.coords();

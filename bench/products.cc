@@ -1,6 +1,6 @@
 // Benchmark: the generator's [M, 256] x [256, 256] matrix products, the panel kernel of
-// gcn_kernels.h against LibTorch's product (OpenBLAS), one thread, in one process, the two
-// alternating so that both see the same state of the machine.
+// kernels/panel_product.h against LibTorch's product (OpenBLAS), one thread, in one process, the
+// two alternating so that both see the same state of the machine.
 //
 //   bench_products [--reps R]
 //
@@ -19,8 +19,8 @@
 #include <vector>
 
 #include "fma_peak.h"
-#include "generator/fused_ops.h"
-#include "generator/gcn_kernels.h"
+#include "generator/kernels/panel_product.h"
+#include "generator/model/fused_ops.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 #include "torch_util/threads.h"

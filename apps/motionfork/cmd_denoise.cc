@@ -7,8 +7,8 @@
 #include <random>
 
 #include "app_common.h"
+#include "bundle/dvae_bundle.h"
 #include "config/config_paths.h"
-#include "config/dvae_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "core/error.h"
@@ -20,7 +20,7 @@
 #include "eval/metrics.h"
 #include "eval/test_set.h"
 #include "flags.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "io/file_util.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
@@ -80,7 +80,7 @@ struct DenoiseCmd {
 
 void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   PinThreads(o.threads);
-  const DvaeModel model = DvaeModel::Load(o.model);
+  const DvaeModel model = LoadDvaeModel(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
       pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
@@ -168,7 +168,7 @@ Figures Measure(const std::vector<std::vector<float>>& out,
 
 void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   PinThreads(o.threads);
-  const DvaeModel model = DvaeModel::Load(o.model);
+  const DvaeModel model = LoadDvaeModel(o.model);
   const DvaeManifest& m = model.manifest();
   const std::string config_dir = ConfigDir(g.config_dir);
   const ProtocolOptions protocol =

@@ -4,9 +4,9 @@
 #include <memory>
 
 #include "app_common.h"
+#include "bundle/dvae_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
-#include "config/dvae_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "dataset_loading.h"

@@ -23,8 +23,8 @@
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
-#include "generator/forecaster.h"
-#include "generator/generator_predictor.h"
+#include "generator/inference/forecaster.h"
+#include "generator/training/generator_predictor.h"
 #include "io/file_util.h"
 #include "validity/pose_validator.h"
 

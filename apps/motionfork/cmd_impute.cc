@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
+#include "bundle/hgvae_bundle.h"
 #include "config/config_paths.h"
-#include "config/hgvae_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "core/error.h"
@@ -16,7 +16,7 @@
 #include "eval/metrics.h"
 #include "eval/test_set.h"
 #include "flags.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "hgvae_commands.h"
 #include "imputation/hgvae_experiments.h"
 #include "imputation/hgvae_model.h"
@@ -66,7 +66,7 @@ struct ImputeCmd {
 };
 
 void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
       pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
@@ -118,7 +118,7 @@ struct OodCmd {
 };
 
 void RunOod(const OodCmd& o, GlobalOptions& g) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
       pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
@@ -175,7 +175,7 @@ struct SampleCmd {
 };
 
 void RunSample(const SampleCmd& o, const GlobalOptions&) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const int ci = model.ClassIndex(o.cls);
   const std::vector<float> w = model.Sample(o.count, ci, o.seed, !o.mean_latents);
   const int T = model.window(), N = model.coords(), J = model.skeleton().num_joints();
@@ -233,7 +233,7 @@ double Mean(const std::vector<double>& v) {
 }
 
 void RunEval(const EvalCmd& o, const GlobalOptions& g) {
-  const HgvaeModel model = HgvaeModel::Load(o.model);
+  const HgvaeModel model = LoadHgvaeModel(o.model);
   const HgvaeManifest& m = model.manifest();
   const std::string config_dir = ConfigDir(g.config_dir);
   const ProtocolOptions protocol =

@@ -11,9 +11,9 @@
 #include <optional>
 
 #include "app_common.h"
+#include "bundle/prior_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
-#include "config/flow_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "core/error.h"
@@ -192,7 +192,7 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
     g.exit_code = kExitInterrupted;
     return;
   }
-  prior.Save(o.out);
+  SavePosePrior(prior, o.out);
   const PriorTrainingSummary& y = prior.summary();
   std::string log = "epoch\tlearning_rate\ttrain_nll\theld_out_nll\n";
   for (size_t e = 0; e < y.train_nll.size(); ++e) {
@@ -261,7 +261,7 @@ Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
 }
 
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
-  const PosePrior prior = PosePrior::Load(o.model);
+  const PosePrior prior = LoadPosePrior(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
   const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
   const Motion motion = OnPriorSkeleton(lm, prior, config_dir);
@@ -327,7 +327,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
 
 void RunSample(const SampleOptions& o, const GlobalOptions& g) {
   FormatOfPath(o.output);  // fail on an unsupported extension before any work
-  const PosePrior prior = PosePrior::Load(o.model);
+  const PosePrior prior = LoadPosePrior(o.model);
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;
   const Motion poses = prior.Sample(o.count, o.seed, o.temperature, {}, fps, o.steps);
   WriteMotionFile(o.output, poses);

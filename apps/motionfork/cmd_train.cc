@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "bundle/prior_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
@@ -17,7 +18,7 @@
 #include "dataset_loading.h"
 #include "flow/flow_module.h"
 #include "flow/pose_prior.h"
-#include "generator/training.h"
+#include "generator/training/training.h"
 #include "io/file_util.h"
 #include "validity/pose_validator.h"
 
@@ -158,7 +159,7 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     std::string dir = cfg.prior;
     const fs::path from_tree = fs::path(config_dir).parent_path() / dir;
     if (!fs::is_directory(dir) && fs::is_directory(from_tree)) dir = from_tree.string();
-    prior = std::make_shared<PosePrior>(PosePrior::Load(dir));
+    prior = std::make_shared<PosePrior>(LoadPosePrior(dir));
     prior->CheckSkeleton(*skeleton.skeleton);
     prior->module()->Freeze();
     const std::vector<int> parents = skeleton.skeleton->parents();

@@ -14,7 +14,7 @@
 #include "constraints/constraint_set.h"
 #include "core/error.h"
 #include "core/resample.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "io/motion_file.h"
 #include "io/prediction_file.h"
 #include "motionfork/motionfork.h"

@@ -4,6 +4,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "bundle/dvae_bundle.h"
+#include "bundle/hgvae_bundle.h"
 #include "core/motion.h"
 #include "denoise/dvae_model.h"
 #include "imputation/hgvae_model.h"
@@ -37,7 +39,7 @@ Imputer::Imputer(Imputer&&) noexcept = default;
 Imputer& Imputer::operator=(Imputer&&) noexcept = default;
 
 Imputer Imputer::Load(const std::string& bundle_dir) {
-  HgvaeModel model = HgvaeModel::Load(bundle_dir);
+  HgvaeModel model = LoadHgvaeModel(bundle_dir);
   auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   return Imputer(std::make_unique<Impl>(Impl{std::move(model), std::move(skeleton)}));
 }
@@ -74,7 +76,7 @@ Denoiser::Denoiser(Denoiser&&) noexcept = default;
 Denoiser& Denoiser::operator=(Denoiser&&) noexcept = default;
 
 Denoiser Denoiser::Load(const std::string& bundle_dir) {
-  DvaeModel model = DvaeModel::Load(bundle_dir);
+  DvaeModel model = LoadDvaeModel(bundle_dir);
   auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   return Denoiser(std::make_unique<Impl>(Impl{std::move(model), std::move(skeleton)}));
 }

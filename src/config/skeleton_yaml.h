@@ -1,5 +1,5 @@
 // A skeleton spec inside a bundle's YAML (`skeleton:` mapping: name, joints [name, parent],
-// left_right pairs, partitions as joint lists). Private to the config module.
+// left_right pairs, partitions as joint lists). Used by config and the bundle layer.
 #pragma once
 
 #include <yaml-cpp/yaml.h>

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "config/protocol_config.h"
-#include "config/skeleton_config.h"
 #include "core/motion.h"
+#include "core/skeleton_config.h"
+#include "dataset/protocol_options.h"
 
 namespace motionfork {
 

@@ -6,7 +6,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "denoise/dvae_bundle.h"
+#include "denoise/dvae_net.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
 
@@ -20,11 +20,12 @@ struct DvaeModel::Impl {
   std::mutex mutex;  // optimisation mode changes the encoder's weights for a while
 };
 
-DvaeModel DvaeModel::Load(const std::string& dir) {
+DvaeModel DvaeModel::FromNet(DvaeManifest manifest, DvaeNet net) {
   DvaeModel model;
   model.impl_ = std::make_shared<Impl>();
   Impl& i = *model.impl_;
-  i.net = LoadDvaeBundle(dir, &i.manifest);
+  i.manifest = std::move(manifest);
+  i.net = std::move(net);
   for (torch::Tensor& p : i.net->DecoderParameters()) p.set_requires_grad(false);
   i.norm = std::make_unique<DvaeTensors>(i.manifest);
   i.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(i.manifest.skeleton));

@@ -19,6 +19,8 @@
 
 namespace motionfork {
 
+class DvaeNet;  // denoise/dvae_net.h (LibTorch)
+
 struct DenoiseStats {
   int windows = 0;
   double seconds = 0;  // wall time of the denoising (not loading)
@@ -28,8 +30,9 @@ struct DenoiseStats {
 
 class DvaeModel {
  public:
-  // Reads DIR/dvae.yaml and DIR/dvae.pt. Throws FormatError naming the missing or bad file.
-  static DvaeModel Load(const std::string& dir);
+  // A model over a built network (in eval mode) and the manifest it was built from. Bundles on
+  // disk: bundle/dvae_bundle.h (LoadDvaeModel).
+  static DvaeModel FromNet(DvaeManifest manifest, DvaeNet net);
 
   const DvaeManifest& manifest() const;
   const Skeleton& skeleton() const;

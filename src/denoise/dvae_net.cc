@@ -151,4 +151,10 @@ torch::Tensor InverseGammaKl(const torch::Tensor& a, const torch::Tensor& b, dou
          a0 * (torch::log(b) - torch::log(b0)) + a * (b0 - b) / b;
 }
 
+int DvaeValues(const DvaeManifest& m) {
+  return 3 * static_cast<int>(m.skeleton.joint_names.size());
+}
+
+DvaeNet BuildDvaeNet(const DvaeManifest& m) { return DvaeNet(m.model, DvaeValues(m)); }
+
 }  // namespace motionfork

@@ -100,4 +100,8 @@ torch::Tensor GaussianKl(const torch::Tensor& m1, const torch::Tensor& l1, const
 torch::Tensor InverseGammaKl(const torch::Tensor& a, const torch::Tensor& b, double a0,
                              const torch::Tensor& b0);
 
+int DvaeValues(const DvaeManifest& m);  // joints x 3
+// The network a manifest describes (untrained).
+DvaeNet BuildDvaeNet(const DvaeManifest& m);
+
 }  // namespace motionfork

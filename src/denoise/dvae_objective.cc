@@ -4,7 +4,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "denoise/dvae_bundle.h"
+#include "denoise/dvae_net.h"
 
 namespace motionfork {
 

@@ -69,6 +69,7 @@ struct DvaeNoisePrior {
 
 enum class DenoiseMode { kRegression, kOptimisation };
 const char* ToString(DenoiseMode mode);
+DenoiseMode ParseDenoiseMode(const std::string& text);  // "regression" | "optimisation"
 
 struct DenoiseOptions {
   DenoiseMode mode = DenoiseMode::kRegression;
@@ -111,5 +112,8 @@ struct DvaeManifest {
   DenoiseOptions denoise;                   // defaults of `motionfork denoise`
   std::vector<std::pair<std::string, std::string>> info;
 };
+
+// Throws std::invalid_argument naming the field and the rule it broke.
+void ValidateDvaeOptions(const DvaeOptions& o);
 
 }  // namespace motionfork

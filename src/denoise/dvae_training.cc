@@ -9,10 +9,9 @@
 #include <set>
 #include <sstream>
 
-#include "config/dvae_config.h"
+#include "bundle/dvae_bundle.h"
 #include "core/motion_noise.h"
 #include "dataset/windows.h"
-#include "denoise/dvae_bundle.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
 #include "io/file_util.h"

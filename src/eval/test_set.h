@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "config/protocol_config.h"
 #include "core/skeleton.h"
 #include "dataset/dataset.h"
+#include "dataset/protocol_options.h"
 #include "dataset/windows.h"
 #include "eval/multimodal.h"
 

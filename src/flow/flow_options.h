@@ -115,6 +115,12 @@ struct PriorParameterEntry {
 };
 
 // A saved prior: prior.yaml (this) + weights.npy (float32 [P], the parameters concatenated).
+// The config as YAML text (`model:` and `training:` mappings, every key, doubles with 17 digits):
+// prior.yaml embeds it and training checkpoints compare it (bundle/prior_bundle.h parses it back).
+std::string FormatFlowConfig(const PriorConfig& config);
+// A double as that text writes it: 17 significant digits, .nan, .inf, -.inf.
+std::string FlowNumberText(double v);
+
 struct PriorManifest {
   static constexpr const char* kFormat = "motionfork-flow-prior";
   static constexpr int kVersion = 1;

@@ -6,7 +6,6 @@
 #include <random>
 #include <stdexcept>
 
-#include "config/flow_config.h"
 #include "core/error.h"
 #include "core/limbs.h"
 #include "flow/flow_module.h"
@@ -17,27 +16,6 @@ namespace motionfork {
 namespace {
 
 constexpr int64_t kChunk = 16384;  // poses per forward pass when scoring many
-
-std::string Fnv1a64(std::string_view bytes) {
-  uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "fnv1a64:%016llx", static_cast<unsigned long long>(h));
-  return buf;
-}
-
-std::string ShapeText(const std::vector<int64_t>& shape) {
-  std::string s = "[";
-  for (size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
-  return s + "]";
-}
-
-[[noreturn]] void Fail(const std::string& file, const std::string& what) {
-  throw FormatError(FormatMessage(file, "", what));
-}
 
 std::string SkeletonText(const Skeleton& s) {
   return "'" + s.name() + "' (" + std::to_string(s.num_joints()) + " joints)";
@@ -293,112 +271,6 @@ Motion PosePrior::Sample(int n, uint64_t seed, double temperature,
     }
   }
   return FromLimbs(impl_->skeleton, fps, limbs);
-}
-
-void PosePrior::Save(const std::string& dir) const {
-  namespace fs = std::filesystem;
-  fs::create_directories(dir);
-  PriorManifest m;
-  const Skeleton& s = *impl_->skeleton;
-  m.skeleton_name = s.name();
-  m.skeleton_config = impl_->skeleton_config;
-  m.joint_names = s.joint_names();
-  m.parents = s.parents();
-  m.bone_lengths = impl_->bone_lengths;
-  m.dim = impl_->dim;
-  m.config = impl_->config;
-  m.summary = impl_->summary;
-  NpyArray weights;
-  {
-    torch::NoGradGuard no_grad;
-    for (const auto& [name, t] : impl_->flow->OrderedParameters()) {
-      m.parameters.push_back({name, t.sizes().vec()});
-      const torch::Tensor c = t.detach().to(torch::kFloat32).contiguous();
-      weights.data.insert(weights.data.end(), c.data_ptr<float>(), c.data_ptr<float>() + c.numel());
-    }
-  }
-  weights.shape = {static_cast<int64_t>(weights.data.size())};
-  const std::string bytes = SerializeNpy(weights);
-  m.weights_checksum = Fnv1a64(bytes);
-  WriteFileAtomically((fs::path(dir) / m.weights_file).string(), bytes);
-  WriteFileAtomically((fs::path(dir) / "prior.yaml").string(), FormatPriorManifest(m));
-}
-
-PosePrior PosePrior::Load(const std::string& dir) {
-  namespace fs = std::filesystem;
-  const std::string manifest_path = (fs::path(dir) / "prior.yaml").string();
-  if (!fs::is_regular_file(manifest_path)) {
-    throw FormatError(FormatMessage(dir, "",
-                                    "expected a prior bundle folder holding prior.yaml "
-                                    "(written by 'motionfork prior train'), found none"));
-  }
-  const PriorManifest m = ParsePriorManifest(ReadFileBytes(manifest_path), manifest_path);
-  auto fail = [&](const std::string& what) { Fail(manifest_path, what); };
-  std::shared_ptr<const Skeleton> skeleton;
-  try {
-    skeleton = std::make_shared<const Skeleton>(
-        Skeleton::FromParents(m.skeleton_name, m.joint_names, m.parents));
-  } catch (const std::invalid_argument& e) {
-    fail(std::string("skeleton: ") + e.what());
-  }
-  if (m.dim != 3 * (skeleton->num_joints() - 1)) {
-    fail("dim = " + std::to_string(m.dim) +
-         ", expected 3 x (joints - 1) = " + std::to_string(3 * (skeleton->num_joints() - 1)));
-  }
-  std::unique_ptr<PosePrior> made;
-  try {
-    made = std::make_unique<PosePrior>(skeleton, m.config);
-  } catch (const std::invalid_argument& e) {
-    fail(e.what());
-  }
-  PosePrior prior = std::move(*made);
-  prior.impl_->skeleton_config = m.skeleton_config;
-  prior.impl_->summary = m.summary;
-  try {
-    prior.set_bone_lengths(m.bone_lengths);
-  } catch (const std::invalid_argument& e) {
-    fail(std::string("bone_lengths: ") + e.what());
-  }
-  const auto params = prior.impl_->flow->OrderedParameters();
-  if (params.size() != m.parameters.size()) {
-    fail("lists " + std::to_string(m.parameters.size()) +
-         " parameters, the model it describes has " + std::to_string(params.size()));
-  }
-  int64_t total = 0;
-  for (size_t i = 0; i < params.size(); ++i) {
-    const auto expected = params[i].second.sizes().vec();
-    if (m.parameters[i].name != params[i].first || m.parameters[i].shape != expected) {
-      fail("parameter " + std::to_string(i) + ": expected '" + params[i].first + "' of shape " +
-           ShapeText(expected) + ", found '" + m.parameters[i].name + "' of shape " +
-           ShapeText(m.parameters[i].shape));
-    }
-    total += params[i].second.numel();
-  }
-  const std::string weights_path = (fs::path(dir) / m.weights_file).string();
-  const std::string bytes = ReadFileBytes(weights_path);
-  const std::string checksum = Fnv1a64(bytes);
-  if (checksum != m.weights_checksum) {
-    throw FormatError(FormatMessage(weights_path, "",
-                                    "checksum " + checksum + " does not match prior.yaml's " +
-                                        m.weights_checksum +
-                                        " (the weights belong to another bundle or are damaged)"));
-  }
-  const NpyArray w = ParseNpy(bytes, weights_path);
-  if (w.shape != std::vector<int64_t>{total}) {
-    throw FormatError(FormatMessage(
-        weights_path, "",
-        "expected shape [" + std::to_string(total) + "], found " + ShapeText(w.shape)));
-  }
-  torch::NoGradGuard no_grad;
-  int64_t offset = 0;
-  for (const auto& [name, t] : params) {
-    torch::Tensor dst = t;
-    dst.copy_(
-        torch::from_blob(const_cast<float*>(w.data.data()) + offset, t.sizes(), torch::kFloat32)
-            .to(t.dtype()));
-    offset += t.numel();
-  }
-  return prior;
 }
 
 }  // namespace motionfork

@@ -1,6 +1,6 @@
 // PosePrior: a learned density over poses (the GSPS normalizing flow on limb directions) bound to
 // a skeleton, without LibTorch in its interface. It scores poses (log-density, nats), maps poses
-// to latents and back, samples poses, and saves/loads a self-describing bundle:
+// to latents and back and samples poses; bundle/prior_bundle.h saves and loads it as a bundle:
 //
 //   DIR/prior.yaml    format, skeleton (joints + parents), mean bone lengths, config, training
 //                     summary, the parameter layout and a checksum of the weights
@@ -36,11 +36,8 @@ class PosePrior {
   PosePrior(PosePrior&&) noexcept;
   PosePrior& operator=(PosePrior&&) noexcept;
 
-  // Reads DIR/prior.yaml and its weights. Throws FormatError naming the file and what is wrong
-  // (unknown format or version, a parameter of the wrong shape, a checksum mismatch, ...).
-  static PosePrior Load(const std::string& dir);
-  // Writes DIR/weights.npy then DIR/prior.yaml (each all-or-nothing), creating DIR.
-  void Save(const std::string& dir) const;
+  // Bundles on disk (DIR/prior.yaml, DIR/weights.npy): bundle/prior_bundle.h (LoadPosePrior,
+  // SavePosePrior).
 
   const Skeleton& skeleton() const;
   const std::shared_ptr<const Skeleton>& skeleton_ptr() const;

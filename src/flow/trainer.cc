@@ -9,7 +9,6 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "config/flow_config.h"
 #include "core/error.h"
 #include "flow/flow_module.h"
 #include "io/file_util.h"

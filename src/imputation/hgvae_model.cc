@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "imputation/hgvae_bundle.h"
+#include "imputation/hgvae_net.h"
 #include "imputation/hgvae_tensors.h"
 
 namespace motionfork {
@@ -52,11 +52,12 @@ struct HgvaeModel::Impl {
   }
 };
 
-HgvaeModel HgvaeModel::Load(const std::string& dir) {
+HgvaeModel HgvaeModel::FromNet(HgvaeManifest manifest, HgvaeNet net) {
   HgvaeModel m;
   m.impl_ = std::make_shared<Impl>();
   Impl& impl = *m.impl_;
-  impl.net = LoadHgvaeBundle(dir, &impl.manifest);
+  impl.manifest = std::move(manifest);
+  impl.net = std::move(net);
   for (auto& p : impl.net->parameters()) p.set_requires_grad(false);
   impl.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl.manifest.skeleton));
   impl.tensors = std::make_unique<HgvaeTensors>(impl.manifest);

@@ -17,6 +17,8 @@
 
 namespace motionfork {
 
+class HgvaeNet;  // imputation/hgvae_net.h (LibTorch)
+
 struct ImputeResult {
   std::vector<float> windows;        // [count, T, N], observed values unchanged
   std::vector<double> score_before;  // the bundle's OoD score with the missing values at the mean
@@ -36,8 +38,9 @@ struct HgvaeWindowFigures {
 
 class HgvaeModel {
  public:
-  // Reads DIR/hgvae.yaml and DIR/hgvae.pt. Throws FormatError naming the missing or bad file.
-  static HgvaeModel Load(const std::string& dir);
+  // A model over a built network (in eval mode) and the manifest it was built from. Bundles on
+  // disk: bundle/hgvae_bundle.h (LoadHgvaeModel).
+  static HgvaeModel FromNet(HgvaeManifest manifest, HgvaeNet net);
 
   const HgvaeManifest& manifest() const;
   const Skeleton& skeleton() const;

@@ -235,4 +235,12 @@ torch::Tensor HgvaeNetImpl::Score(const torch::Tensor& x, const HgvaeOutput& out
              : posterior + GaussianLogLik(x, out.x_mean, out.x_logvar);
 }
 
+int HgvaeCoords(const HgvaeManifest& m) {
+  return 3 * (static_cast<int>(m.skeleton.joint_names.size()) - 1);
+}
+
+HgvaeNet BuildHgvaeNet(const HgvaeManifest& m) {
+  return HgvaeNet(m.model, HgvaeCoords(m), m.model.window, static_cast<int64_t>(m.classes.size()));
+}
+
 }  // namespace motionfork

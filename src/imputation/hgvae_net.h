@@ -114,4 +114,9 @@ class HgvaeNetImpl : public torch::nn::Module {
 };
 TORCH_MODULE(HgvaeNet);
 
+// Nodes of the full graph for a manifest: 3 per non-root joint.
+int HgvaeCoords(const HgvaeManifest& m);
+// The network a manifest describes (untrained).
+HgvaeNet BuildHgvaeNet(const HgvaeManifest& m);
+
 }  // namespace motionfork

@@ -55,6 +55,7 @@ enum class ImputeObjective {
   kJoint,      // the same plus log p(x | z = posterior means): also asks the decoder to explain x
 };
 const char* ToString(ImputeObjective objective);
+ImputeObjective ParseImputeObjective(const std::string& text);  // "posterior" | "joint"
 
 struct ImputeOptions {
   int steps = 10;              // Adam steps on the missing values (paper: 10, or 100)
@@ -98,5 +99,11 @@ struct HgvaeManifest {
   ImputeOptions impute;                                   // defaults for `motionfork impute`
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
+
+// Throws std::invalid_argument naming the field and the rule it broke. num_coords: nodes of the
+// full graph (0 = not known yet: levels may still say 0).
+void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords);
+// Levels with 0 nodes -> num_coords, window 0 -> t_his; validated.
+HgvaeOptions ResolveHgvaeOptions(HgvaeOptions o, int num_coords, int t_his);
 
 }  // namespace motionfork

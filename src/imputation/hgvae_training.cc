@@ -9,9 +9,8 @@
 #include <set>
 #include <sstream>
 
-#include "config/hgvae_config.h"
+#include "bundle/hgvae_bundle.h"
 #include "dataset/windows.h"
-#include "imputation/hgvae_bundle.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/hgvae_tensors.h"
 #include "io/file_util.h"
@@ -260,7 +259,7 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
 
 void RefreshBundleSettings(const std::string& dir, const HgvaeData& data,
                            const HgvaeTrainConfig& config) {
-  const HgvaeModel model = HgvaeModel::Load(dir);
+  const HgvaeModel model = LoadHgvaeModel(dir);
   const std::vector<float> held = HeldOutWindows(data.held_out, model.window(), model.coords(),
                                                  config.training.held_out_windows);
   HgvaeManifest m = model.manifest();
@@ -268,7 +267,7 @@ void RefreshBundleSettings(const std::string& dir, const HgvaeData& data,
   m.ood_score = config.ood_score;
   m.ood_k = config.ood_k;
   m.impute = config.impute;
-  WriteFileAtomically((fs::path(dir) / "hgvae.yaml").string(), FormatHgvaeManifest(m));
+  RewriteHgvaeManifest(dir, m);
 }
 
 }  // namespace motionfork

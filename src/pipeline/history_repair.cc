@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_model.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
 

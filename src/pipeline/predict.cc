@@ -5,6 +5,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "bundle/dvae_bundle.h"
+#include "bundle/hgvae_bundle.h"
 #include "core/error.h"
 #include "denoise/dvae_model.h"
 #include "imputation/hgvae_model.h"
@@ -132,12 +134,12 @@ Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
   std::optional<DvaeModel> denoiser;
   HistoryRepair repair;
   if (!files.imputer_dir.empty() && MissingInHistory(in.motion, start, mc.generator.t_his) > 0) {
-    imputer.emplace(HgvaeModel::Load(files.imputer_dir));
+    imputer.emplace(LoadHgvaeModel(files.imputer_dir));
     repair.imputer = &*imputer;
     repair.imputer_dir = files.imputer_dir;
   }
   if (!files.denoiser_dir.empty()) {
-    denoiser.emplace(DvaeModel::Load(files.denoiser_dir));
+    denoiser.emplace(LoadDvaeModel(files.denoiser_dir));
     repair.denoiser = &*denoiser;
     repair.denoiser_dir = files.denoiser_dir;
   }

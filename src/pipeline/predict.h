@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "io/prediction_file.h"
 #include "pipeline/motion_input.h"
 

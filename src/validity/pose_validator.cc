@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "bundle/prior_bundle.h"
 #include "config/constraint_config.h"
 #include "constraints/checker.h"
 #include "constraints/constraint_set.h"
@@ -23,7 +24,7 @@ PoseValidator::PoseValidator(std::shared_ptr<const Skeleton> skeleton, double fp
     described_ = "angles: " + constraints_yaml;
   }
   if (!prior_dir.empty()) {
-    prior_ = std::make_unique<PosePrior>(PosePrior::Load(prior_dir));
+    prior_ = std::make_unique<PosePrior>(LoadPosePrior(prior_dir));
     prior_->CheckSkeleton(*skeleton_);
     described_ += (described_.empty() ? "" : "; ") + std::string("prior: ") + prior_dir;
   }
@@ -90,7 +91,7 @@ void AttachToBundle(const std::string& bundle_dir, const std::string& constraint
   }
   if (!prior_dir.empty()) {
     // The prior is loaded first: a broken prior is refused here, not when the bundle is used.
-    PosePrior::Load(prior_dir).Save((dir / "prior").string());
+    SavePosePrior(LoadPosePrior(prior_dir), (dir / "prior").string());
   }
 }
 

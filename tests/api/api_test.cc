@@ -18,7 +18,7 @@
 #include "constraints/checker.h"
 #include "constraints/constraint_set.h"
 #include "core/demo_motion.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "io/motion_file.h"
 #include "motionfork/motionfork.h"
 #include "test_support.h"

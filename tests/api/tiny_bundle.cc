@@ -4,7 +4,7 @@
 #include "config/config_paths.h"
 #include "config/model_config.h"
 #include "config/skeleton_config.h"
-#include "generator/bundle.h"
+#include "generator/model/bundle.h"
 #include "test_support.h"
 
 namespace motionfork::testing {

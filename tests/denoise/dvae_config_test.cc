@@ -1,9 +1,8 @@
 // Motion-DVAE configs and bundle manifests.
-#include "config/dvae_config.h"
-
 #include <catch2/catch.hpp>
 #include <fstream>
 
+#include "bundle/dvae_bundle.h"
 #include "config/config_paths.h"
 #include "core/error.h"
 #include "test_support.h"

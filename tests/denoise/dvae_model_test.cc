@@ -6,10 +6,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "bundle/dvae_bundle.h"
 #include "core/error.h"
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
-#include "denoise/dvae_bundle.h"
 #include "io/file_util.h"
 #include "test_support.h"
 #include "tiny_dvae.h"
@@ -110,7 +110,7 @@ TEST_CASE("dvae training and fine-tuning resume exactly where they stopped") {
 
 TEST_CASE(
     "denoising: same seed same output, any length, optimisation mode leaves the bundle unchanged") {
-  const DvaeModel model = DvaeModel::Load(TinyDir() + "/denoiser");
+  const DvaeModel model = LoadDvaeModel(TinyDir() + "/denoiser");
   const Motion clean = testing::MakeWalkingMotion(47, 30, 999);
   const Motion noisy = AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 4);
   DenoiseOptions o = model.manifest().denoise;
@@ -140,7 +140,7 @@ TEST_CASE(
 }
 
 TEST_CASE("denoising refuses what it cannot use, naming it") {
-  const DvaeModel model = DvaeModel::Load(TinyDir() + "/denoiser");
+  const DvaeModel model = LoadDvaeModel(TinyDir() + "/denoiser");
   const DenoiseOptions o = model.manifest().denoise;
   std::vector<float> bad = testing::MakeWalkingMotion(20).positions();
   bad[3 * model.joints() * 5 + 4] = std::nanf("");
@@ -151,7 +151,7 @@ TEST_CASE("denoising refuses what it cannot use, naming it") {
   testing::TempDir tmp;
   fs::create_directories(tmp.file("b"));
   fs::copy_file(TinyDir() + "/denoiser/dvae.yaml", tmp.file("b") + "/dvae.yaml");
-  CHECK_THROWS_WITH(DvaeModel::Load(tmp.file("b")), Contains("dvae.pt") && Contains("missing"));
+  CHECK_THROWS_WITH(LoadDvaeModel(tmp.file("b")), Contains("dvae.pt") && Contains("missing"));
   WriteFileAtomically(tmp.file("b") + "/dvae.pt", "garbage");
-  CHECK_THROWS_AS(DvaeModel::Load(tmp.file("b")), FormatError);
+  CHECK_THROWS_AS(LoadDvaeModel(tmp.file("b")), FormatError);
 }

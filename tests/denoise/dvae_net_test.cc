@@ -1,5 +1,5 @@
 // The Motion-DVAE network and its objectives: shapes, KL formulas, gradients.
-#include "denoise/dvae_bundle.h"
+#include "bundle/dvae_bundle.h"
 #include "denoise/dvae_objective.h"
 #include "test_support.h"
 #include "tiny_dvae.h"

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "config/flow_config.h"
+#include "bundle/prior_bundle.h"
 #include "core/error.h"
 #include "core/limbs.h"
 #include "flow/catch_torch.h"
@@ -121,8 +121,8 @@ TEST_CASE("save -> load gives identical log-probs, config, skeleton, summary and
   prior.set_skeleton_config("bandai");
   prior.mutable_summary().protocol = "synthetic";
   TrainPosePrior(prior, data, "");
-  prior.Save(dir.path().string());
-  const PosePrior loaded = PosePrior::Load(dir.path().string());
+  SavePosePrior(prior, dir.path().string());
+  const PosePrior loaded = LoadPosePrior(dir.path().string());
   CHECK(loaded.LogProbDirections(data.test.directions) ==
         prior.LogProbDirections(data.test.directions));
   CHECK(Weights(loaded) == Weights(prior));
@@ -142,7 +142,7 @@ TEST_CASE("save -> load gives identical log-probs, config, skeleton, summary and
 TEST_CASE("a damaged or foreign bundle is refused with the file named") {
   testing::TempDir dir;
   PosePrior prior(testing::MakeHumanoid(), SmallConfig());
-  prior.Save(dir.path().string());
+  SavePosePrior(prior, dir.path().string());
   const std::string yaml = ReadFileBytes(dir.file("prior.yaml"));
   const std::string weights = ReadFileBytes(dir.file("weights.npy"));
   auto rewrite = [&](const std::string& y, const std::string& w) {
@@ -158,25 +158,25 @@ TEST_CASE("a damaged or foreign bundle is refused with the file named") {
   std::string other = weights;
   other[other.size() - 3] ^= 0x10;
   rewrite(yaml, other);
-  CHECK_THROWS_WITH(PosePrior::Load(dir.path().string()), Catch::Contains("checksum"));
+  CHECK_THROWS_WITH(LoadPosePrior(dir.path().string()), Catch::Contains("checksum"));
   // A config that describes another network (4 layers) than the stored parameters.
   rewrite(replaced(yaml, "layers: 3", "layers: 4"), weights);
-  CHECK_THROWS_WITH(PosePrior::Load(dir.path().string()), Catch::Contains("parameters"));
+  CHECK_THROWS_WITH(LoadPosePrior(dir.path().string()), Catch::Contains("parameters"));
   // Not a prior.
   rewrite(replaced(yaml, "format: motionfork-flow-prior", "format: something-else"), weights);
-  CHECK_THROWS_AS(PosePrior::Load(dir.path().string()), FormatError);
+  CHECK_THROWS_AS(LoadPosePrior(dir.path().string()), FormatError);
   // A newer version.
   rewrite(replaced(yaml, "version: 1", "version: 7"), weights);
-  CHECK_THROWS_WITH(PosePrior::Load(dir.path().string()), Catch::Contains("version 7"));
+  CHECK_THROWS_WITH(LoadPosePrior(dir.path().string()), Catch::Contains("version 7"));
   // A typo'd key.
   rewrite(replaced(yaml, "  epochs:", "  epocs:"), weights);
-  CHECK_THROWS_WITH(PosePrior::Load(dir.path().string()),
+  CHECK_THROWS_WITH(LoadPosePrior(dir.path().string()),
                     Catch::Contains("unknown key 'training.epocs'"));
   // A folder without a bundle.
   testing::TempDir empty;
-  CHECK_THROWS_WITH(PosePrior::Load(empty.path().string()), Catch::Contains("prior.yaml"));
+  CHECK_THROWS_WITH(LoadPosePrior(empty.path().string()), Catch::Contains("prior.yaml"));
   rewrite(yaml, weights);
-  CHECK_NOTHROW(PosePrior::Load(dir.path().string()));
+  CHECK_NOTHROW(LoadPosePrior(dir.path().string()));
 }
 
 TEST_CASE("interrupted and resumed training equals uninterrupted training, bit for bit") {

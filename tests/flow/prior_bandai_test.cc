@@ -10,6 +10,7 @@
 #include <memory>
 #include <random>
 
+#include "bundle/prior_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
@@ -295,7 +296,7 @@ TEST_CASE(
   }
   REQUIRE(std::filesystem::exists(dir + "/prior.yaml"));
   PinThreads(1);
-  const PosePrior prior = PosePrior::Load(dir);
+  const PosePrior prior = LoadPosePrior(dir);
   prior.CheckSkeleton(*b->skeleton);
   const PriorData data = MakePriorData(b->dataset, prior.config().training);
   const PriorTrainingSummary& y = prior.summary();

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "bundle/prior_bundle.h"
 #include "core/limbs.h"
 #include "flow/pose_prior.h"
 #include "io/csv.h"
@@ -83,7 +84,7 @@ void WriteBundle(const std::string& dir, std::shared_ptr<const Skeleton> skeleto
   PriorConfig c;
   PosePrior prior(std::move(skeleton), c);
   prior.set_skeleton_config(config);
-  prior.Save(dir);
+  SavePosePrior(prior, dir);
 }
 
 }  // namespace
@@ -208,7 +209,7 @@ TEST_CASE(
   CHECK_FALSE(std::filesystem::exists(dir.file("a/checkpoint.pt")));
   const std::string log = ReadFileBytes(dir.file("a/train_log.tsv"));
   CHECK(std::count(log.begin(), log.end(), '\n') == 41);
-  const PosePrior trained = PosePrior::Load(dir.file("a"));
+  const PosePrior trained = LoadPosePrior(dir.file("a"));
   CHECK(trained.summary().epochs_completed == 40);
   CHECK(trained.summary().protocol == "bandai");
   CHECK(trained.skeleton_config() == "bandai");

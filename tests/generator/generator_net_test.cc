@@ -1,7 +1,7 @@
-#include "generator/generator_net.h"
+#include "generator/model/generator_net.h"
 
 #include "core/dct.h"
-#include "generator/latents.h"
+#include "generator/model/latents.h"
 #include "torch_catch.h"
 #include "torch_util/threads.h"
 
@@ -120,8 +120,8 @@ TEST_CASE("generator rejects mismatched inputs") {
                     Catch::Contains("expected 2 latents"));
 }
 
-#include "generator/fused_ops.h"
-#include "generator/gcn_kernels.h"
+#include "generator/kernels/panel_product.h"
+#include "generator/model/fused_ops.h"
 
 TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and gradients") {
   torch::manual_seed(5);

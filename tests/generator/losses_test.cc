@@ -1,4 +1,4 @@
-#include "generator/losses.h"
+#include "generator/training/losses.h"
 
 #include "torch_catch.h"
 #include "torch_util/threads.h"

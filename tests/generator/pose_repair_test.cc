@@ -1,6 +1,6 @@
 // PoseRepair on the Bandai skeleton with the shipped Bandai constraint set (angle ranges and the
 // rigid pelvis): poses built from the demo walk, damaged in known ways.
-#include "generator/pose_repair.h"
+#include "generator/inference/pose_repair.h"
 
 #include <cmath>
 

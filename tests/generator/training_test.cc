@@ -1,5 +1,5 @@
 // Training, bundles and the Forecaster on synthetic data built in code.
-#include "generator/training.h"
+#include "generator/training/training.h"
 
 #include <filesystem>
 
@@ -7,7 +7,7 @@
 #include "config/model_config.h"
 #include "config/training_options.h"
 #include "core/joint_selection.h"
-#include "generator/forecaster.h"
+#include "generator/inference/forecaster.h"
 #include "test_support.h"
 #include "torch_catch.h"
 #include "torch_util/threads.h"

@@ -1,9 +1,8 @@
 // HG-VAE configs and bundle manifests.
-#include "config/hgvae_config.h"
-
 #include <catch2/catch.hpp>
 #include <fstream>
 
+#include "bundle/hgvae_bundle.h"
 #include "core/error.h"
 #include "test_support.h"
 

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <limits>
 
+#include "bundle/hgvae_bundle.h"
 #include "core/error.h"
-#include "imputation/hgvae_bundle.h"
 #include "imputation/hgvae_experiments.h"
 #include "imputation/motion_imputation.h"
 #include "imputation/occlusion.h"
@@ -85,7 +85,7 @@ TEST_CASE("hgvae training: a resumed run gives the same weights as an uninterrup
 }
 
 TEST_CASE("hgvae model: load gives the same scores every time, bad bundles are named") {
-  const HgvaeModel a = HgvaeModel::Load(TinyModelDir()), b = HgvaeModel::Load(TinyModelDir());
+  const HgvaeModel a = LoadHgvaeModel(TinyModelDir()), b = LoadHgvaeModel(TinyModelDir());
   CHECK(a.window() == 8);
   CHECK(a.coords() == 48);
   const std::vector<float> w = PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8, 30.0, 999));
@@ -94,17 +94,17 @@ TEST_CASE("hgvae model: load gives the same scores every time, bad bundles are n
   testing::TempDir dir;
   fs::create_directories(dir.file("broken"));
   fs::copy_file(TinyModelDir() + "/hgvae.yaml", dir.file("broken/hgvae.yaml"));
-  CHECK_THROWS_WITH(HgvaeModel::Load(dir.file("broken")),
+  CHECK_THROWS_WITH(LoadHgvaeModel(dir.file("broken")),
                     Contains("hgvae.pt") && Contains("missing"));
   std::ofstream(dir.file("broken/hgvae.pt")) << "not weights";
-  CHECK_THROWS_WITH(HgvaeModel::Load(dir.file("broken")), Contains("hgvae.pt"));
+  CHECK_THROWS_WITH(LoadHgvaeModel(dir.file("broken")), Contains("hgvae.pt"));
   CHECK_THROWS_AS(a.Score(std::vector<float>(47)), std::invalid_argument);
   CHECK_THROWS_WITH(a.ClassIndex("walk"), Contains("unconditional"));
 }
 
 TEST_CASE(
     "hgvae imputation: observed values kept, missing ones closer than the mean, best step kept") {
-  const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
+  const HgvaeModel model = LoadHgvaeModel(TinyModelDir());
   std::vector<float> windows;
   for (int s = 0; s < 16; ++s) {
     const std::vector<float> p =
@@ -144,7 +144,7 @@ TEST_CASE(
 }
 
 TEST_CASE("hgvae imputation: an all-missing window and a mask of the wrong size are refused") {
-  const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
+  const HgvaeModel model = LoadHgvaeModel(TinyModelDir());
   const std::vector<float> w = PoseVectorsWithoutRoot(testing::MakeWalkingMotion(8));
   CHECK_THROWS_WITH(model.Impute(w, std::vector<uint8_t>(w.size(), 1), {}),
                     Contains("every value missing"));
@@ -152,7 +152,7 @@ TEST_CASE("hgvae imputation: an all-missing window and a mask of the wrong size 
 }
 
 TEST_CASE("motion imputation: a long motion is covered, the root must be known") {
-  const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
+  const HgvaeModel model = LoadHgvaeModel(TinyModelDir());
   const Motion m = testing::MakeWalkingMotion(21);
   std::vector<uint8_t> missing = MaskFromSpec("joints:Hand_L,LowerArm_L", model.skeleton(), 21, 0);
   const MotionImputation r = ImputeMotion(model, m, missing, ImputeOptions{});
@@ -174,7 +174,7 @@ TEST_CASE("motion imputation: a long motion is covered, the root must be known")
 }
 
 TEST_CASE("hgvae ood: scores separate impossible bodies from walks") {
-  const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
+  const HgvaeModel model = LoadHgvaeModel(TinyModelDir());
   std::vector<float> windows;
   for (int s = 0; s < 24; ++s) {
     const std::vector<float> p =
@@ -187,7 +187,7 @@ TEST_CASE("hgvae ood: scores separate impossible bodies from walks") {
 }
 
 TEST_CASE("hgvae sampling: shapes, seeds") {
-  const HgvaeModel model = HgvaeModel::Load(TinyModelDir());
+  const HgvaeModel model = LoadHgvaeModel(TinyModelDir());
   const std::vector<float> a = model.Sample(3, -1, 4), b = model.Sample(3, -1, 4),
                            c = model.Sample(3, -1, 5);
   CHECK(a.size() == 3u * 8 * 48);

@@ -3,7 +3,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "config/hgvae_config.h"
+#include "bundle/hgvae_bundle.h"
 
 using namespace motionfork;
 

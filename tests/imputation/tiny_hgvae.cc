@@ -1,6 +1,6 @@
 #include "imputation/tiny_hgvae.h"
 
-#include "config/hgvae_config.h"
+#include "bundle/hgvae_bundle.h"
 #include "test_support.h"
 
 namespace motionfork::testing {

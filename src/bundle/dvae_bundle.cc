@@ -1,0 +1,259 @@
+#include "bundle/dvae_bundle.h"
+
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "bundle/manifest.h"
+#include "bundle/torch_bundle.h"
+#include "config/skeleton_yaml.h"
+#include "config/yaml_util.h"
+#include "core/error.h"
+#include "core/motion_noise.h"
+#include "io/file_util.h"
+
+namespace motionfork {
+
+namespace {
+
+using yaml_util::CheckKeys;
+using yaml_util::Fail;
+using yaml_util::Get;
+using yaml_util::GetOr;
+using yaml_util::Section;
+
+void ParseModel(const std::string& file, const YAML::Node& n, DvaeOptions* o) {
+  CheckKeys(file, n, "model", {"window", "hidden", "latent", "mlp_hidden", "groups"});
+  o->window = GetOr<int>(file, n, "window", o->window);
+  o->hidden = GetOr<int>(file, n, "hidden", o->hidden);
+  o->latent = GetOr<int>(file, n, "latent", o->latent);
+  o->mlp_hidden = GetOr<int>(file, n, "mlp_hidden", o->mlp_hidden);
+  o->groups = GetOr<int>(file, n, "groups", o->groups);
+  ValidateDvaeOptions(*o);
+}
+
+void EmitModel(YAML::Emitter& out, const DvaeOptions& o) {
+  out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "window" << YAML::Value << o.window;
+  out << YAML::Key << "hidden" << YAML::Value << o.hidden;
+  out << YAML::Key << "latent" << YAML::Value << o.latent;
+  out << YAML::Key << "mlp_hidden" << YAML::Value << o.mlp_hidden;
+  out << YAML::Key << "groups" << YAML::Value << o.groups;
+  out << YAML::EndMap;
+}
+
+void ParseNoisePrior(const std::string& file, const YAML::Node& n, DvaeNoisePrior* o) {
+  CheckKeys(file, n, "noise_prior", {"dof", "scale"});
+  o->dof = GetOr<double>(file, n, "dof", o->dof);
+  o->scale = GetOr<double>(file, n, "scale", o->scale);
+  if (!(o->dof > 0) || !(o->scale > 0))
+    Fail(file, n, "noise_prior: expected dof > 0 and scale > 0 (metres)");
+}
+
+void EmitNoisePrior(YAML::Emitter& out, const DvaeNoisePrior& o) {
+  out << YAML::Key << "noise_prior" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "dof" << YAML::Value << o.dof;
+  out << YAML::Key << "scale" << YAML::Value << o.scale;
+  out << YAML::EndMap;
+}
+
+void ParseDenoise(const std::string& file, const YAML::Node& n, DenoiseOptions* o) {
+  CheckKeys(
+      file, n, "denoise",
+      {"mode", "iterations", "learning_rate", "bone_weight", "fuse", "samples", "stride", "seed"});
+  if (n["mode"]) {
+    try {
+      o->mode = ParseDenoiseMode(Get<std::string>(file, n, "mode"));
+    } catch (const std::invalid_argument& e) {
+      Fail(file, n["mode"], e.what());
+    }
+  }
+  o->iterations = GetOr<int>(file, n, "iterations", o->iterations);
+  o->learning_rate = GetOr<double>(file, n, "learning_rate", o->learning_rate);
+  o->bone_weight = GetOr<double>(file, n, "bone_weight", o->bone_weight);
+  o->fuse = GetOr<bool>(file, n, "fuse", o->fuse);
+  o->samples = GetOr<int>(file, n, "samples", o->samples);
+  o->stride = GetOr<int>(file, n, "stride", o->stride);
+  o->seed = GetOr<uint64_t>(file, n, "seed", o->seed);
+  if (o->iterations < 0 || !(o->learning_rate > 0) || o->samples < 0 || o->stride < 1 ||
+      o->bone_weight < 0) {
+    Fail(file, n,
+         "denoise: expected iterations >= 0, learning_rate > 0, bone_weight >= 0, samples >= 0, "
+         "stride >= 1");
+  }
+}
+
+void EmitDenoise(YAML::Emitter& out, const DenoiseOptions& o) {
+  out << YAML::Key << "denoise" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "mode" << YAML::Value << ToString(o.mode);
+  out << YAML::Key << "iterations" << YAML::Value << o.iterations;
+  out << YAML::Key << "learning_rate" << YAML::Value << o.learning_rate;
+  out << YAML::Key << "bone_weight" << YAML::Value << o.bone_weight;
+  out << YAML::Key << "fuse" << YAML::Value << o.fuse;
+  out << YAML::Key << "samples" << YAML::Value << o.samples;
+  out << YAML::Key << "stride" << YAML::Value << o.stride;
+  out << YAML::Key << "seed" << YAML::Value << o.seed;
+  out << YAML::EndMap;
+}
+
+std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Node& n) {
+  std::vector<std::string> out = yaml_util::StringList(file, n, "noise");
+  for (const std::string& s : out) {
+    try {
+      ParseNoiseSpec(s);
+    } catch (const std::invalid_argument& e) {
+      Fail(file, n, e.what());
+    }
+  }
+  return out;
+}
+
+DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
+  return WithManifestErrors(file, [&] {
+    CheckKeys(file, root, "",
+              {"name", "protocol", "model", "training", "finetune", "noise_prior", "denoise"});
+    DvaeTrainConfig c;
+    c.path = file;
+    c.name = GetOr<std::string>(file, root, "name", "");
+    c.protocol = Get<std::string>(file, root, "protocol");
+    ParseModel(file, Section(file, root, "model", false), &c.model);
+    const YAML::Node t = Section(file, root, "training", false);
+    CheckKeys(file, t, "training",
+              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "lr_decay",
+               "grad_clip", "kl_anneal_epochs", "kl_start", "bone_weight", "held_out_share",
+               "held_out_windows", "seed", "threads"});
+    DvaeTrainOptions& o = c.training;
+    o.epochs = GetOr<int>(file, t, "epochs", o.epochs);
+    o.windows_per_epoch = GetOr<int>(file, t, "windows_per_epoch", o.windows_per_epoch);
+    o.batch_size = GetOr<int>(file, t, "batch_size", o.batch_size);
+    o.learning_rate = GetOr<double>(file, t, "learning_rate", o.learning_rate);
+    o.lr_decay = GetOr<double>(file, t, "lr_decay", o.lr_decay);
+    o.grad_clip = GetOr<double>(file, t, "grad_clip", o.grad_clip);
+    o.kl_anneal_epochs = GetOr<int>(file, t, "kl_anneal_epochs", o.kl_anneal_epochs);
+    o.kl_start = GetOr<double>(file, t, "kl_start", o.kl_start);
+    o.bone_weight = GetOr<double>(file, t, "bone_weight", o.bone_weight);
+    o.held_out_share = GetOr<double>(file, t, "held_out_share", o.held_out_share);
+    o.held_out_windows = GetOr<int>(file, t, "held_out_windows", o.held_out_windows);
+    o.seed = GetOr<uint64_t>(file, t, "seed", o.seed);
+    o.threads = GetOr<int>(file, t, "threads", o.threads);
+    if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size ||
+        !(o.learning_rate > 0) || !(o.lr_decay > 0 && o.lr_decay <= 1) || o.kl_anneal_epochs < 0 ||
+        o.threads < 1 || o.bone_weight < 0 || !(o.held_out_share > 0 && o.held_out_share < 1) ||
+        o.held_out_windows < 1) {
+      Fail(file, t,
+           "training: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, "
+           "learning_rate > 0, "
+           "0 < lr_decay <= 1, kl_anneal_epochs >= 0, bone_weight >= 0, threads >= 1, 0 < "
+           "held_out_share < 1");
+    }
+    const YAML::Node f = Section(file, root, "finetune", false);
+    CheckKeys(
+        file, f, "finetune",
+        {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip",
+         "kl_anneal_epochs", "kl_start", "bone_weight", "noise", "patience", "seed", "threads"});
+    DvaeFinetuneOptions& u = c.finetune;
+    u.epochs = GetOr<int>(file, f, "epochs", u.epochs);
+    u.windows_per_epoch = GetOr<int>(file, f, "windows_per_epoch", u.windows_per_epoch);
+    u.batch_size = GetOr<int>(file, f, "batch_size", u.batch_size);
+    u.learning_rate = GetOr<double>(file, f, "learning_rate", u.learning_rate);
+    u.grad_clip = GetOr<double>(file, f, "grad_clip", u.grad_clip);
+    u.kl_anneal_epochs = GetOr<int>(file, f, "kl_anneal_epochs", u.kl_anneal_epochs);
+    u.kl_start = GetOr<double>(file, f, "kl_start", u.kl_start);
+    u.bone_weight = GetOr<double>(file, f, "bone_weight", u.bone_weight);
+    if (f["noise"]) u.noise = ParseNoiseList(file, f["noise"]);
+    u.patience = GetOr<int>(file, f, "patience", u.patience);
+    u.seed = GetOr<uint64_t>(file, f, "seed", u.seed);
+    u.threads = GetOr<int>(file, f, "threads", u.threads);
+    if (u.epochs < 1 || u.batch_size < 1 || u.windows_per_epoch < u.batch_size ||
+        !(u.learning_rate > 0) || u.kl_anneal_epochs < 0 || u.threads < 1 || u.noise.empty() ||
+        u.patience < 1 || u.bone_weight < 0) {
+      Fail(file, f,
+           "finetune: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, "
+           "learning_rate > 0, "
+           "kl_anneal_epochs >= 0, threads >= 1, patience >= 1, bone_weight >= 0 and at least one "
+           "noise spec");
+    }
+    ParseNoisePrior(file, Section(file, root, "noise_prior", false), &c.noise_prior);
+    ParseDenoise(file, Section(file, root, "denoise", false), &c.denoise);
+    return c;
+  });
+}
+
+}  // namespace
+
+DvaeTrainConfig LoadDvaeTrainConfig(const std::string& path) {
+  return ParseTrainRoot(path, yaml_util::LoadFile(path));
+}
+
+DvaeTrainConfig ParseDvaeTrainConfig(const std::string& yaml_text, const std::string& source_name) {
+  return ParseTrainRoot(source_name, yaml_util::LoadText(yaml_text, source_name));
+}
+
+DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksums) {
+  const YAML::Node root = LoadManifestFile(path);
+  return WithManifestErrors(path, [&] {
+    DvaeManifest m;
+    ManifestHeader h = ParseManifestHeader(path, root, kDvaeBundleFormat);
+    m.format = h.format;
+    m.protocol = h.protocol;
+    m.fps = h.fps;
+    m.skeleton = std::move(h.skeleton);
+    if (checksums) *checksums = std::move(h.checksums);
+    ParseModel(path, Section(path, root, "model", true), &m.model);
+    const YAML::Node norm = Section(path, root, "normalisation", true);
+    m.mean = Get<std::vector<double>>(path, norm, "mean");
+    m.std = Get<std::vector<double>>(path, norm, "std");
+    const size_t values = 3 * m.skeleton.joint_names.size();
+    if (m.mean.size() != values || m.std.size() != values) {
+      Fail(path, norm,
+           "normalisation: expected " + std::to_string(values) + " means and stds (3 per joint)");
+    }
+    ParseNoisePrior(path, Section(path, root, "noise_prior", true), &m.noise_prior);
+    m.finetuned = GetOr<bool>(path, root, "finetuned", false);
+    if (root["finetune_noise"]) m.finetune_noise = ParseNoiseList(path, root["finetune_noise"]);
+    ParseDenoise(path, Section(path, root, "denoise", false), &m.denoise);
+    m.info = ParseManifestInfo(root);
+    return m;
+  });
+}
+
+std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& checksums) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  EmitManifestFormat(out, {m.format, m.protocol, m.fps, {}, {}});
+  EmitModel(out, m.model);
+  out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "mean" << YAML::Value << YAML::Flow << m.mean;
+  out << YAML::Key << "std" << YAML::Value << YAML::Flow << m.std;
+  out << YAML::EndMap;
+  EmitNoisePrior(out, m.noise_prior);
+  out << YAML::Key << "finetuned" << YAML::Value << m.finetuned;
+  out << YAML::Key << "finetune_noise" << YAML::Value << YAML::Flow << m.finetune_noise;
+  EmitDenoise(out, m.denoise);
+  EmitSkeletonSpec(out, m.skeleton);
+  EmitManifestChecksums(out, checksums);
+  EmitManifestInfo(out, m.info);
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net) {
+  WriteBundle(dir, {{"dvae.pt", WeightBytes(net)}}, "dvae.yaml",
+              [&m](const BundleChecksums& sums) { return FormatDvaeManifest(m, sums); });
+}
+
+DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m) {
+  return LoadTorchBundle<DvaeManifest, DvaeNet>(
+      dir, "Motion-DVAE", "dvae.yaml", "dvae.pt", m,
+      [](const std::string& path, BundleChecksums* sums) { return LoadDvaeManifest(path, sums); },
+      [](const DvaeManifest& manifest) { return BuildDvaeNet(manifest); });
+}
+
+DvaeModel LoadDvaeModel(const std::string& dir) {
+  DvaeManifest m;
+  DvaeNet net = LoadDvaeBundle(dir, &m);
+  return DvaeModel::FromNet(std::move(m), std::move(net));
+}
+
+}  // namespace motionfork

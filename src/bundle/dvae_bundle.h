@@ -1,0 +1,31 @@
+// Motion-DVAE bundles: DIR/dvae.yaml (DvaeManifest) + DIR/dvae.pt, and the Motion-DVAE training
+// configs (configs/models/dvae_*.yaml) <-> structs (denoise/dvae_options.h). A missing key takes
+// its default, an unknown key is an error; every error is a FormatError naming the file and line.
+#pragma once
+
+#include <string>
+
+#include "bundle/bundle_files.h"
+#include "denoise/dvae_model.h"
+#include "denoise/dvae_net.h"
+#include "denoise/dvae_options.h"
+
+namespace motionfork {
+
+DvaeTrainConfig LoadDvaeTrainConfig(const std::string& path);
+DvaeTrainConfig ParseDvaeTrainConfig(const std::string& yaml_text, const std::string& source_name);
+
+// checksums: the manifest's file checksums (none for bundles written before they existed).
+DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksums = nullptr);
+// Parsing the result gives the manifest back exactly (doubles with 17 digits).
+std::string FormatDvaeManifest(const DvaeManifest& manifest, const BundleChecksums& checksums = {});
+
+// Both files written all-or-nothing (bundle/bundle_files.h), dvae.pt's checksum in dvae.yaml.
+void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net);
+// Throws FormatError naming the missing or malformed file (or one whose checksum does not match).
+// The net is in eval mode.
+DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m);
+// Reads DIR/dvae.yaml and DIR/dvae.pt (was DvaeModel::Load).
+DvaeModel LoadDvaeModel(const std::string& dir);
+
+}  // namespace motionfork

@@ -1,0 +1,235 @@
+#include "bundle/hgvae_bundle.h"
+
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "bundle/manifest.h"
+#include "bundle/torch_bundle.h"
+#include "config/skeleton_yaml.h"
+#include "config/yaml_util.h"
+#include "core/error.h"
+#include "io/file_util.h"
+
+namespace motionfork {
+
+namespace {
+
+using yaml_util::CheckKeys;
+using yaml_util::Fail;
+using yaml_util::Get;
+using yaml_util::GetOr;
+using yaml_util::Section;
+
+std::vector<HgvaeLevel> ParseLevels(const std::string& file, const YAML::Node& n) {
+  if (!n.IsSequence()) Fail(file, n, "key 'levels' must be a list of [nodes, features] pairs");
+  std::vector<HgvaeLevel> out;
+  for (const YAML::Node& e : n) {
+    if (!e.IsSequence() || e.size() != 2) Fail(file, e, "each level must be [nodes, features]");
+    try {
+      out.push_back({e[0].as<int>(), e[1].as<int>()});
+    } catch (const YAML::Exception&) {
+      Fail(file, e, "each level must be two integers [nodes, features]");
+    }
+  }
+  return out;
+}
+
+void ParseModel(const std::string& file, const YAML::Node& n, HgvaeOptions* o) {
+  CheckKeys(file, n, "model",
+            {"levels", "width", "encoder_blocks", "decoder_blocks", "stochastic_levels", "window",
+             "label_dropout", "predicted_variance"});
+  if (n["levels"]) o->levels = ParseLevels(file, n["levels"]);
+  o->width = GetOr<int>(file, n, "width", o->width);
+  o->encoder_blocks = GetOr<int>(file, n, "encoder_blocks", o->encoder_blocks);
+  o->decoder_blocks = GetOr<int>(file, n, "decoder_blocks", o->decoder_blocks);
+  o->stochastic_levels = GetOr<int>(file, n, "stochastic_levels", o->stochastic_levels);
+  o->window = GetOr<int>(file, n, "window", o->window);
+  o->label_dropout = GetOr<double>(file, n, "label_dropout", o->label_dropout);
+  o->predicted_variance = GetOr<bool>(file, n, "predicted_variance", o->predicted_variance);
+}
+
+void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o) {
+  CheckKeys(file, n, "impute", {"steps", "learning_rate", "objective"});
+  o->steps = GetOr<int>(file, n, "steps", o->steps);
+  o->learning_rate = GetOr<double>(file, n, "learning_rate", o->learning_rate);
+  if (n["objective"]) {
+    try {
+      o->objective = ParseImputeObjective(Get<std::string>(file, n, "objective"));
+    } catch (const std::invalid_argument& e) {
+      Fail(file, n["objective"], e.what());
+    }
+  }
+  if (o->steps < 0 || !(o->learning_rate > 0))
+    Fail(file, n, "impute: expected steps >= 0 and learning_rate > 0");
+}
+
+void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
+  out << YAML::Key << "impute" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "steps" << YAML::Value << o.steps;
+  out << YAML::Key << "learning_rate" << YAML::Value << o.learning_rate;
+  out << YAML::Key << "objective" << YAML::Value << ToString(o.objective);
+  out << YAML::EndMap;
+}
+
+void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
+  out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "levels" << YAML::Value << YAML::BeginSeq;
+  for (const HgvaeLevel& l : o.levels)
+    out << YAML::Flow << YAML::BeginSeq << l.nodes << l.features << YAML::EndSeq;
+  out << YAML::EndSeq;
+  out << YAML::Key << "width" << YAML::Value << o.width;
+  out << YAML::Key << "encoder_blocks" << YAML::Value << o.encoder_blocks;
+  out << YAML::Key << "decoder_blocks" << YAML::Value << o.decoder_blocks;
+  out << YAML::Key << "stochastic_levels" << YAML::Value << o.stochastic_levels;
+  out << YAML::Key << "window" << YAML::Value << o.window;
+  out << YAML::Key << "label_dropout" << YAML::Value << o.label_dropout;
+  out << YAML::Key << "predicted_variance" << YAML::Value << o.predicted_variance;
+  out << YAML::EndMap;
+}
+
+HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
+  return WithManifestErrors(file, [&] {
+    CheckKeys(file, root, "", {"name", "protocol", "model", "training", "impute", "ood"});
+    HgvaeTrainConfig c;
+    c.path = file;
+    c.name = GetOr<std::string>(file, root, "name", "");
+    c.protocol = Get<std::string>(file, root, "protocol");
+    ParseModel(file, Section(file, root, "model", false), &c.model);
+    ValidateHgvaeOptions(c.model, 0);
+    const YAML::Node t = Section(file, root, "training", false);
+    CheckKeys(file, t, "training",
+              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip",
+               "kl_warmup_epochs", "kl_start", "condition", "held_out_share", "held_out_windows",
+               "seed", "threads"});
+    HgvaeTrainOptions& o = c.training;
+    o.epochs = GetOr<int>(file, t, "epochs", o.epochs);
+    o.windows_per_epoch = GetOr<int>(file, t, "windows_per_epoch", o.windows_per_epoch);
+    o.batch_size = GetOr<int>(file, t, "batch_size", o.batch_size);
+    o.learning_rate = GetOr<double>(file, t, "learning_rate", o.learning_rate);
+    o.grad_clip = GetOr<double>(file, t, "grad_clip", o.grad_clip);
+    o.kl_warmup_epochs = GetOr<int>(file, t, "kl_warmup_epochs", o.kl_warmup_epochs);
+    o.kl_start = GetOr<double>(file, t, "kl_start", o.kl_start);
+    o.condition = GetOr<std::string>(file, t, "condition", o.condition);
+    o.held_out_share = GetOr<double>(file, t, "held_out_share", o.held_out_share);
+    o.held_out_windows = GetOr<int>(file, t, "held_out_windows", o.held_out_windows);
+    o.seed = GetOr<uint64_t>(file, t, "seed", o.seed);
+    o.threads = GetOr<int>(file, t, "threads", o.threads);
+    if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size ||
+        !(o.learning_rate > 0) || o.kl_warmup_epochs < 0 || o.threads < 1 ||
+        !(o.held_out_share > 0 && o.held_out_share < 1)) {
+      Fail(file, t,
+           "training: expected epochs >= 1, batch_size >= 1, windows_per_epoch >= batch_size, "
+           "learning_rate > 0, "
+           "kl_warmup_epochs >= 0, threads >= 1, 0 < held_out_share < 1");
+    }
+    if (!o.condition.empty() && o.condition != "action") {
+      Fail(file, t["condition"],
+           "training.condition: expected '' (none) or 'action', got '" + o.condition + "'");
+    }
+    ParseImpute(file, Section(file, root, "impute", false), &c.impute);
+    const YAML::Node ood = Section(file, root, "ood", false);
+    CheckKeys(file, ood, "ood", {"k", "score"});
+    c.ood_k = GetOr<double>(file, ood, "k", c.ood_k);
+    c.ood_score =
+        ParseImputeObjective(GetOr<std::string>(file, ood, "score", ToString(c.ood_score)));
+    return c;
+  });
+}
+
+}  // namespace
+
+HgvaeTrainConfig LoadHgvaeTrainConfig(const std::string& path) {
+  return ParseTrainRoot(path, yaml_util::LoadFile(path));
+}
+
+HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text,
+                                       const std::string& source_name) {
+  return ParseTrainRoot(source_name, yaml_util::LoadText(yaml_text, source_name));
+}
+
+HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checksums) {
+  const YAML::Node root = LoadManifestFile(path);
+  return WithManifestErrors(path, [&] {
+    HgvaeManifest m;
+    ManifestHeader h = ParseManifestHeader(path, root, kHgvaeBundleFormat);
+    m.format = h.format;
+    m.protocol = h.protocol;
+    m.fps = h.fps;
+    m.skeleton = std::move(h.skeleton);
+    if (checksums) *checksums = std::move(h.checksums);
+    ParseModel(path, Section(path, root, "model", true), &m.model);
+    m.classes = yaml_util::StringList(path, root["classes"], "classes");
+    const YAML::Node norm = Section(path, root, "normalisation", true);
+    m.mean = Get<std::vector<double>>(path, norm, "mean");
+    m.std = Get<std::vector<double>>(path, norm, "std");
+    const int coords = 3 * (static_cast<int>(m.skeleton.joint_names.size()) - 1);
+    if (static_cast<int>(m.mean.size()) != coords || static_cast<int>(m.std.size()) != coords) {
+      Fail(path, norm,
+           "normalisation: expected " + std::to_string(coords) +
+               " means and stds (3 per non-root joint)");
+    }
+    ValidateHgvaeOptions(m.model, coords);
+    const YAML::Node ood = Section(path, root, "ood", true);
+    m.score_mean = Get<double>(path, ood, "score_mean");
+    m.score_std = Get<double>(path, ood, "score_std");
+    m.ood_k = Get<double>(path, ood, "k");
+    // Bundles written before the key existed hold the paper's posterior score.
+    m.ood_score = ParseImputeObjective(GetOr<std::string>(path, ood, "score", "posterior"));
+    ParseImpute(path, Section(path, root, "impute", false), &m.impute);
+    m.info = ParseManifestInfo(root);
+    return m;
+  });
+}
+
+std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& checksums) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  EmitManifestFormat(out, {m.format, m.protocol, m.fps, {}, {}});
+  EmitModel(out, m.model);
+  out << YAML::Key << "classes" << YAML::Value << YAML::Flow << m.classes;
+  out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "mean" << YAML::Value << YAML::Flow << m.mean;
+  out << YAML::Key << "std" << YAML::Value << YAML::Flow << m.std;
+  out << YAML::EndMap;
+  out << YAML::Key << "ood" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "score" << YAML::Value << ToString(m.ood_score);
+  out << YAML::Key << "score_mean" << YAML::Value << m.score_mean;
+  out << YAML::Key << "score_std" << YAML::Value << m.score_std;
+  out << YAML::Key << "k" << YAML::Value << m.ood_k;
+  out << YAML::EndMap;
+  EmitImpute(out, m.impute);
+  EmitSkeletonSpec(out, m.skeleton);
+  EmitManifestChecksums(out, checksums);
+  EmitManifestInfo(out, m.info);
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net) {
+  WriteBundle(dir, {{"hgvae.pt", WeightBytes(net)}}, "hgvae.yaml",
+              [&m](const BundleChecksums& sums) { return FormatHgvaeManifest(m, sums); });
+}
+
+HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m) {
+  return LoadTorchBundle<HgvaeManifest, HgvaeNet>(
+      dir, "HG-VAE", "hgvae.yaml", "hgvae.pt", m,
+      [](const std::string& path, BundleChecksums* sums) { return LoadHgvaeManifest(path, sums); },
+      [](const HgvaeManifest& manifest) { return BuildHgvaeNet(manifest); });
+}
+
+HgvaeModel LoadHgvaeModel(const std::string& dir) {
+  HgvaeManifest m;
+  HgvaeNet net = LoadHgvaeBundle(dir, &m);
+  return HgvaeModel::FromNet(std::move(m), std::move(net));
+}
+
+void RewriteHgvaeManifest(const std::string& dir, const HgvaeManifest& m) {
+  const std::string path = (std::filesystem::path(dir) / "hgvae.yaml").string();
+  BundleChecksums sums;
+  LoadHgvaeManifest(path, &sums);
+  WriteFileAtomically(path, FormatHgvaeManifest(m, sums));
+}
+
+}  // namespace motionfork

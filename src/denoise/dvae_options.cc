@@ -1,0 +1,28 @@
+#include "denoise/dvae_options.h"
+
+#include <stdexcept>
+
+namespace motionfork {
+
+const char* ToString(DenoiseMode mode) {
+  return mode == DenoiseMode::kRegression ? "regression" : "optimisation";
+}
+
+DenoiseMode ParseDenoiseMode(const std::string& text) {
+  if (text == "regression") return DenoiseMode::kRegression;
+  if (text == "optimisation" || text == "optimization") return DenoiseMode::kOptimisation;
+  throw std::invalid_argument("denoise mode: expected 'regression' or 'optimisation', got '" +
+                              text + "'");
+}
+
+void ValidateDvaeOptions(const DvaeOptions& o) {
+  auto fail = [](const std::string& m) { throw std::invalid_argument("dvae model: " + m); };
+  if (o.window < 3) fail("window: expected >= 3 frames, got " + std::to_string(o.window));
+  if (o.hidden < 1 || o.latent < 1) fail("hidden and latent: expected >= 1");
+  if (o.groups < 1 || o.mlp_hidden < o.groups || o.mlp_hidden % o.groups != 0) {
+    fail("mlp_hidden (" + std::to_string(o.mlp_hidden) +
+         ") must be a positive multiple of groups (" + std::to_string(o.groups) + ")");
+  }
+}
+
+}  // namespace motionfork

@@ -1,0 +1,189 @@
+#include "generator/inference/forecaster.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <stdexcept>
+
+#include "config/constraint_config.h"
+#include "generator/inference/fused_generator.h"
+#include "generator/inference/pose_repair.h"
+#include "generator/model/bundle.h"
+#include "generator/model/latents.h"
+
+namespace motionfork {
+
+struct Forecaster::Impl {
+  ModelConfig config;
+  std::shared_ptr<const Skeleton> skeleton;
+  PartPlan parts;
+  GeneratorNet net{nullptr};
+  // The fused inference path (AVX-512 CPUs; MOTIONFORK_FAST_GENERATOR=0 turns it off): the same
+  // futures as `net` up to float rounding, 1.2-1.6x faster (bench_generator, BENCHMARKS.md).
+  std::unique_ptr<FusedGenerator> fused;
+  std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
+};
+
+Forecaster::Forecaster(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Forecaster::~Forecaster() = default;
+Forecaster::Forecaster(Forecaster&&) noexcept = default;
+Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
+
+Forecaster Forecaster::Load(const std::string& bundle_dir) {
+  auto impl = std::make_unique<Impl>();
+  impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
+  const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
+  if (FusedGenerator::Available() && !(fast_env && std::string(fast_env) == "0")) {
+    impl->fused = std::make_unique<FusedGenerator>(*impl->net);
+  }
+  impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));
+  impl->parts = MakePartPlan(*impl->skeleton, impl->config.generator.partition);
+  const std::filesystem::path constraints = std::filesystem::path(bundle_dir) / "constraints.yaml";
+  if (std::filesystem::is_regular_file(constraints)) {
+    impl->repair = std::make_unique<PoseRepair>(LoadConstraintConfig(constraints.string()),
+                                                *impl->skeleton, impl->parts);
+  }
+  return Forecaster(std::move(impl));
+}
+
+const ModelConfig& Forecaster::config() const { return impl_->config; }
+const std::shared_ptr<const Skeleton>& Forecaster::skeleton() const { return impl_->skeleton; }
+const PartPlan& Forecaster::parts() const { return impl_->parts; }
+bool Forecaster::repairs() const { return impl_->repair != nullptr; }
+
+std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& histories,
+                                                   int num_histories,
+                                                   const ForecastRequest& request) const {
+  const GeneratorOptions& g = impl_->config.generator;
+  const int64_t N = g.num_nodes;
+  if (request.k < 1)
+    throw std::invalid_argument("Predict: expected k >= 1 futures, got " +
+                                std::to_string(request.k));
+  if (num_histories < 1 ||
+      histories.size() != static_cast<size_t>(num_histories) * g.t_his * N * 3) {
+    throw std::invalid_argument("Predict: expected histories [" + std::to_string(num_histories) +
+                                ", " + std::to_string(g.t_his) + ", " + std::to_string(N) +
+                                ", 3], got " + std::to_string(histories.size()) + " values");
+  }
+  for (float v : histories) {
+    if (!std::isfinite(v)) throw std::invalid_argument("Predict: the history holds NaN or Inf");
+  }
+  const std::vector<bool> fixed = impl_->parts.FixedMask(request.fixed_parts);
+  torch::NoGradGuard no_grad;
+  at::Generator gen = MakeGenerator(request.seed);
+  const torch::Tensor h =
+      torch::from_blob(const_cast<float*>(histories.data()), {num_histories, g.t_his, N, 3})
+          .clone();
+  const auto z = SampleLatents(num_histories, request.k, g.nz, fixed, gen);
+  // Histories in chunks of about kChunkSamples samples: the activations of a chunk stay in the
+  // core's cache (16 x 50 samples at once ran 1.5x slower per history than one history at a
+  // time). Each sample's future does not depend on the chunking (batch norm uses its running
+  // statistics at inference), and the latents are drawn for all histories first.
+  constexpr int64_t kChunkSamples = 64;
+  const int64_t chunk = std::max<int64_t>(1, kChunkSamples / request.k);
+  torch::Tensor y;  // [Bh*K, t_pred, N, 3]
+  if (impl_->fused) {
+    // Chunks in parallel on the threads LibTorch was given (each writes its own rows).
+    y = torch::empty({static_cast<int64_t>(num_histories) * request.k, g.t_pred, N, 3});
+    std::vector<torch::Tensor> zc;
+    for (const torch::Tensor& zp : z) zc.push_back(zp.contiguous());
+    const int64_t chunks = (num_histories + chunk - 1) / chunk;
+    at::parallel_for(0, chunks, 1, [&](int64_t begin, int64_t end) {
+      for (int64_t c = begin; c < end; ++c) {
+        const int64_t first = c * chunk, n = std::min<int64_t>(chunk, num_histories - first);
+        std::vector<const float*> zptr;
+        for (const torch::Tensor& zp : zc)
+          zptr.push_back(zp.data_ptr<float>() + first * request.k * g.nz);
+        impl_->fused->Predict(h.data_ptr<float>() + first * g.t_his * N * 3, n, request.k, zptr,
+                              fixed, y.data_ptr<float>() + first * request.k * g.t_pred * N * 3);
+      }
+    });
+  } else {
+    std::vector<torch::Tensor> parts_out;
+    for (int64_t first = 0; first < num_histories; first += chunk) {
+      const int64_t n = std::min<int64_t>(chunk, num_histories - first);
+      std::vector<torch::Tensor> zc;
+      for (const torch::Tensor& zp : z)
+        zc.push_back(zp.slice(0, first * request.k, (first + n) * request.k));
+      parts_out.push_back(
+          impl_->net->forward(h.slice(0, first, first + n), zc, fixed).slice(1, g.t_his));
+    }
+    y = (parts_out.size() == 1 ? parts_out[0] : torch::cat(parts_out, 0)).contiguous();
+  }
+  if (request.repair && impl_->repair) {
+    // Root back at the origin for the angle ranges, then repaired, then without it again.
+    torch::Tensor poses =
+        torch::cat({torch::zeros({y.size(0) * g.t_pred, 1, 3}), y.view({-1, N, 3})}, 1);
+    // Each pose's reference layout: its history's last frame.
+    const torch::Tensor last = h.select(1, g.t_his - 1);  // [Bh, N, 3]
+    const torch::Tensor templates =
+        torch::cat({torch::zeros({num_histories, 1, 3}), last}, 1)
+            .repeat_interleave(static_cast<int64_t>(request.k) * g.t_pred, 0)
+            .contiguous();
+    impl_->repair->Repair(poses, templates, fixed);
+    y = poses.slice(1, 1).contiguous();
+  }
+  return std::vector<float>(y.data_ptr<float>(), y.data_ptr<float>() + y.numel());
+}
+
+std::vector<float> Forecaster::PredictWorld(const float* history,
+                                            const ForecastRequest& request) const {
+  const GeneratorOptions& g = impl_->config.generator;
+  const int J = g.num_nodes + 1;
+  std::vector<float> rel(static_cast<size_t>(g.t_his) * (J - 1) * 3);
+  for (int t = 0; t < g.t_his; ++t) {
+    const float* fr = history + static_cast<size_t>(t) * J * 3;
+    for (int j = 1; j < J; ++j)
+      for (int a = 0; a < 3; ++a)
+        rel[(static_cast<size_t>(t) * (J - 1) + j - 1) * 3 + a] = fr[3 * j + a] - fr[a];
+  }
+  const std::vector<float> y = PredictRootRelative(rel, 1, request);
+  const float* root = history + static_cast<size_t>(g.t_his - 1) * J * 3;
+  std::vector<float> futures(static_cast<size_t>(request.k) * g.t_pred * J * 3);
+  for (size_t s = 0; s < static_cast<size_t>(request.k) * g.t_pred; ++s) {
+    float* out = &futures[s * J * 3];
+    const float* in = &y[s * (J - 1) * 3];
+    for (int a = 0; a < 3; ++a) out[a] = root[a];
+    for (int j = 1; j < J; ++j)
+      for (int a = 0; a < 3; ++a) out[3 * j + a] = root[a] + in[3 * (j - 1) + a];
+  }
+  return futures;
+}
+
+Forecast Forecaster::Predict(const Motion& history, int start,
+                             const ForecastRequest& request) const {
+  const GeneratorOptions& g = impl_->config.generator;
+  const Skeleton& want = *impl_->skeleton;
+  if (!history.skeleton().SameStructure(want)) {
+    throw std::invalid_argument("Predict: the history's skeleton '" + history.skeleton().name() +
+                                "' differs from the model's '" + want.name() +
+                                "' (joint names or parents); map it with --skeleton");
+  }
+  if (std::abs(history.fps() - impl_->config.fps) > 1e-6 * impl_->config.fps) {
+    throw std::invalid_argument("Predict: the history is at " + std::to_string(history.fps()) +
+                                " Hz, the model at " + std::to_string(impl_->config.fps) +
+                                " Hz; resample it");
+  }
+  if (start < 0 || start + g.t_his > history.num_frames()) {
+    throw std::invalid_argument("Predict: the model needs " + std::to_string(g.t_his) +
+                                " history frames from frame " + std::to_string(start) +
+                                ", the motion has " + std::to_string(history.num_frames()) +
+                                " frames");
+  }
+  const int J = want.num_joints();
+  Forecast f;
+  f.k = request.k;
+  f.t_his = g.t_his;
+  f.t_pred = g.t_pred;
+  f.joints = J;
+  f.fps = history.fps();
+  for (int t = start; t < start + g.t_his; ++t) {
+    const float* fr = history.frame(t);
+    f.history.insert(f.history.end(), fr, fr + J * 3);
+  }
+  f.futures = PredictWorld(f.history.data(), request);
+  return f;
+}
+
+}  // namespace motionfork

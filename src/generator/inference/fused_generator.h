@@ -1,0 +1,42 @@
+// The generator's inference path without LibTorch's per-operation cost: the trained network's
+// weights copied once (batch norm folded into a scale and shift per node and feature, weight
+// matrices packed) and run by the fused AVX-512 kernels of kernels/panel_product.h. Same futures as
+// GeneratorNet::forward in eval mode up to float rounding (a test holds them within 1e-5 m).
+//
+// Work that does not depend on the latent is done once per history: the history's DCT, and the
+// first part's input product X W_x (the latent's share z W_z is one row per sample, added to
+// every node through the adjacency's row sums). A fixed part is computed once per history.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace motionfork {
+
+class GeneratorNetImpl;
+
+class FusedGenerator {
+ public:
+  // True when this CPU runs the kernels (AVX-512); otherwise use GeneratorNet.
+  static bool Available();
+
+  // Copies the network's eval-mode weights; the network may change or go afterwards.
+  explicit FusedGenerator(const GeneratorNetImpl& net);
+  ~FusedGenerator();
+  FusedGenerator(FusedGenerator&&) noexcept;
+  FusedGenerator& operator=(FusedGenerator&&) noexcept;
+
+  // histories [Bh, t_his, N, 3] (root-relative, no root); z[p]: part p's latents [Bh * k, nz]
+  // (sample b = h * k + j); fixed: as GeneratorNet::Decode. Writes futures [Bh * k, t_pred, N, 3].
+  // Single-threaded; concurrent calls on one object are safe.
+  void Predict(const float* histories, int64_t num_histories, int64_t k,
+               const std::vector<const float*>& z, const std::vector<bool>& fixed,
+               float* futures) const;
+
+ private:
+  struct Model;
+  std::unique_ptr<Model> model_;
+};
+
+}  // namespace motionfork

@@ -1,0 +1,41 @@
+// Fused graph-layer activations with hand-written backward passes (LibTorch autograd functions).
+//
+// The generator's hidden layers end in batch norm + tanh on [N, B, H] tensors: as separate
+// LibTorch ops that is about eight passes over memory forward and more backward, which costs
+// more than the layer's matrix products. These do it in one pass each way.
+#pragma once
+
+#include <torch/torch.h>
+
+namespace motionfork {
+
+// tanh(x), x any contiguous float tensor; differentiable.
+torch::Tensor FastTanh(const torch::Tensor& x);
+
+// Training-mode batch norm over dimension 1 of x + bias (x [N, B, H], bias [H] or undefined:
+// statistics per (node, feature)), affine gamma/beta [N, 1, H], then tanh; differentiable in x,
+// gamma, beta and bias. Writes the batch mean and biased variance [N, 1, H] of x + bias to *mean
+// and *var (for running statistics). The bias is never added: the normalisation subtracts it again
+// (one pass over x fewer); it only shifts the mean, and its gradient is the sum of x's.
+torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
+                            const torch::Tensor& beta, double eps, torch::Tensor* mean,
+                            torch::Tensor* var, const torch::Tensor& bias = {});
+
+// A x for node-major x [N, ...] (the graph convolution's node mix, N x N adjacency): one pass
+// over x with the AVX-512 kernel (kernels/node_mix.h), else a matrix product; differentiable.
+torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x);
+
+// x [M, K] times w [K, H] through the packed-panel kernel of kernels/panel_product.h (rows split
+// over the threads); backward: dx = g w^T the same way, dw = x^T g by LibTorch's product
+// (OpenBLAS). LibTorch's product when H (or, for dx, K) is not a multiple of 16, for fewer than
+// 4,096 rows (packing W would cost more than it saves) or without AVX-512.
+torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w);
+
+// Tests: run the portable code even on a CPU with AVX-512 (kernels/batch_norm_tanh.h), or not.
+void UsePortableKernelsForTesting(bool on);
+
+// Inference: tanh(x * scale + shift), scale/shift [N, 1, H], x [N, B, H]; no gradient.
+torch::Tensor ScaleShiftTanh(const torch::Tensor& x, const torch::Tensor& scale,
+                             const torch::Tensor& shift);
+
+}  // namespace motionfork

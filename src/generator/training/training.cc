@@ -1,0 +1,179 @@
+#include "generator/training/training.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "bodyparts/part_plan.h"
+#include "generator/model/bundle.h"
+#include "generator/model/latents.h"
+#include "torch_util/checkpoint.h"
+#include "torch_util/threads.h"
+
+namespace motionfork {
+
+namespace fs = std::filesystem;
+
+void RetargetFuture(const float* future, const float* reference,
+                    const std::vector<int64_t>& parents, int frames, int nodes, float* out) {
+  auto vec = [](const float* pose, const std::vector<int64_t>& par, int n, float v[3]) {
+    const float* p = pose + 3 * n;
+    const float zero[3] = {0, 0, 0};
+    const float* q = par[n] < 0 ? zero : pose + 3 * par[n];
+    for (int a = 0; a < 3; ++a) v[a] = p[a] - q[a];
+  };
+  std::vector<float> length(nodes);
+  for (int n = 0; n < nodes; ++n) {
+    float v[3];
+    vec(reference, parents, n, v);
+    length[n] = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  }
+  for (int t = 0; t < frames; ++t) {
+    const float* src = future + static_cast<size_t>(t) * nodes * 3;
+    float* dst = out + static_cast<size_t>(t) * nodes * 3;
+    for (int n = 0; n < nodes; ++n) {  // parents come before children
+      float v[3];
+      vec(src, parents, n, v);
+      const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+      const float s = len > 1e-8f ? length[n] / len : 0.0f;
+      for (int a = 0; a < 3; ++a) {
+        dst[3 * n + a] = (parents[n] < 0 ? 0.0f : dst[3 * parents[n] + a]) + s * v[a];
+      }
+    }
+  }
+}
+
+namespace {
+
+double LearningRate(const TrainingOptions& t, int epoch) {
+  if (epoch < t.lr_constant_epochs) return t.learning_rate;
+  const int decay = t.epochs - t.lr_constant_epochs;
+  return t.learning_rate *
+         (1.0 - static_cast<double>(epoch - t.lr_constant_epochs) / std::max(1, decay));
+}
+
+}  // namespace
+
+TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfig& model,
+                            const TrainingWindows& data, const std::string& out_dir,
+                            const LossHooks& hooks, const TrainCallbacks& cb,
+                            int stop_after_epochs) {
+  const TrainingOptions& t = config.training;
+  PinThreads(t.threads);
+  torch::manual_seed(t.seed);
+  const Skeleton skeleton = Skeleton::Build(model.skeleton);
+  const PartPlan plan = MakePartPlan(skeleton, model.generator.partition);
+  if (static_cast<int>(t.samples_per_part.size()) != plan.num_parts()) {
+    throw std::invalid_argument("training: samples_per_part has " +
+                                std::to_string(t.samples_per_part.size()) +
+                                " entries, the partition '" + plan.partition + "' has " +
+                                std::to_string(plan.num_parts()) + " parts");
+  }
+  GeneratorNet net(model.generator, plan.nodes);
+  torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
+  const fs::path out(out_dir), ckpt = out / "checkpoint";
+  fs::create_directories(ckpt);
+
+  TrainSummary summary;
+  summary.first_epoch = LoadCheckpoint(ckpt.string(), "generator.pt", *net, adam);
+  if (summary.first_epoch > 0) {
+    if (cb.message)
+      cb.message("resuming from " + ckpt.string() + " at epoch " +
+                 std::to_string(summary.first_epoch + 1));
+  }
+
+  const int N = data.num_nodes, T = data.num_frames(), Bh = t.batch_histories;
+  const int M = config.multimodal.max_per_window;
+  std::vector<int64_t> node_parents(N);
+  for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
+  const int iterations = t.windows_per_epoch / Bh;
+  const auto start = std::chrono::steady_clock::now();
+  std::ofstream csv;
+  const bool new_log = !fs::exists(out / "log.csv");
+  csv.open(out / "log.csv", std::ios::app);
+
+  for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
+    if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
+    const auto epoch_start = std::chrono::steady_clock::now();
+    const double lr = LearningRate(t, epoch);
+    for (auto& group : adam.param_groups())
+      static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+    net->train();
+    std::mt19937_64 rng(t.seed * 1000003ull + epoch);
+    at::Generator gen = MakeGenerator(t.seed * 7919ull + epoch);
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(data.windows.size()) - 1);
+    std::vector<std::pair<std::string, double>> sums;
+    for (int it = 0; it < iterations; ++it) {
+      torch::Tensor truth = torch::empty({Bh, T, N, 3});
+      torch::Tensor pseudo = torch::zeros({Bh, M, data.t_pred, N, 3});
+      torch::Tensor mask = torch::zeros({Bh, M});
+      std::vector<float> other(static_cast<size_t>(T) * N * 3);
+      for (int b = 0; b < Bh; ++b) {
+        const int w = pick(rng);
+        float* dst = truth.data_ptr<float>() + static_cast<size_t>(b) * T * N * 3;
+        data.Gather(w, dst);
+        const auto& mm = data.multimodal[w];
+        for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
+          data.Gather(mm[m], other.data());
+          RetargetFuture(
+              other.data() + static_cast<size_t>(data.t_his) * N * 3,
+              dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
+              pseudo.data_ptr<float>() + (static_cast<size_t>(b) * M + m) * data.t_pred * N * 3);
+          mask[b][m] = 1.0f;
+        }
+      }
+      const auto z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);
+      LossBatch batch{net->ForwardNested(truth.slice(1, 0, data.t_his), z, t.samples_per_part),
+                      truth,
+                      pseudo,
+                      mask,
+                      t.samples_per_part,
+                      plan.nodes,
+                      node_parents,
+                      data.t_his};
+      const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
+      const LossTerms terms =
+          ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);
+      adam.zero_grad();
+      terms.total.backward();
+      torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
+      adam.step();
+      if (sums.empty()) {
+        sums.emplace_back("total", 0.0);
+        for (const auto& [name, v] : terms.terms) sums.emplace_back(name, 0.0);
+      }
+      sums[0].second += terms.total.item<double>();
+      for (size_t k = 0; k < terms.terms.size(); ++k)
+        sums[k + 1].second += terms.terms[k].second.item<double>();
+      if (cb.step) {
+        std::vector<std::pair<std::string, double>> means = sums;
+        for (auto& m : means) m.second /= (it + 1);
+        cb.step(epoch, double(it + 1) / iterations, means);
+      }
+    }
+    for (auto& s : sums) s.second /= iterations;
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
+    if (new_log && epoch == summary.first_epoch) {
+      csv << "epoch,lr,seconds";
+      for (const auto& s : sums) csv << "," << s.first;
+      csv << "\n";
+    }
+    csv << epoch + 1 << "," << lr << "," << seconds;
+    for (const auto& s : sums) csv << "," << s.second;
+    csv << "\n" << std::flush;
+    // Bundle first, then the checkpoint that marks the epoch as done.
+    SaveGeneratorBundle(out_dir, model, net);
+    net->train();
+    SaveCheckpoint(ckpt.string(), "generator.pt", *net, adam, epoch + 1);
+    summary.epochs_done = epoch + 1;
+    if (cb.epoch) cb.epoch(epoch, sums, seconds);
+  }
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace motionfork

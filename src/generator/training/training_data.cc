@@ -1,0 +1,162 @@
+#include "generator/training/training_data.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+#include "core/error.h"
+#include "io/clip_cache.h"
+#include "io/file_util.h"
+
+namespace motionfork {
+
+namespace fs = std::filesystem;
+
+void TrainingWindows::Gather(int w, float* out) const {
+  const Window& win = windows.at(w);
+  const size_t frame = static_cast<size_t>(num_nodes) * 3;
+  std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
+              num_frames() * frame * sizeof(float));
+}
+
+namespace {
+
+// Mean over joints of the per-joint distance between poses a and b ([N, 3] each).
+float MeanJointDistance(const float* a, const float* b, int nodes) {
+  float sum = 0;
+  for (int j = 0; j < nodes; ++j) {
+    const float dx = a[3 * j] - b[3 * j], dy = a[3 * j + 1] - b[3 * j + 1],
+                dz = a[3 * j + 2] - b[3 * j + 2];
+    sum += std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  return sum / nodes;
+}
+
+std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
+                                                    const MultimodalOptions& o,
+                                                    const std::function<void(double)>& progress) {
+  const int W = static_cast<int>(tw.windows.size()), N = tw.num_nodes, D = N * 3;
+  const size_t frame = static_cast<size_t>(D);
+  // Last history poses [W, D].
+  Eigen::MatrixXf last(W, D);
+  for (int w = 0; w < W; ++w) {
+    const Window& win = tw.windows[w];
+    const float* p = tw.clip_poses[win.clip].data() + (win.start + tw.t_his - 1) * frame;
+    for (int d = 0; d < D; ++d) last(w, d) = p[d];
+  }
+  const Eigen::VectorXf sq = last.rowwise().squaredNorm();
+  // Mean per-joint distance <= t implies vector L2 <= N * t: a cheap pre-filter by matrix products.
+  const float l2_bound = static_cast<float>(N * o.last_pose_threshold);
+  std::vector<std::vector<int32_t>> out(W);
+  constexpr int kBlock = 512;
+  std::vector<std::pair<float, int32_t>> cand;
+  for (int b0 = 0; b0 < W; b0 += kBlock) {
+    const int rows = std::min(kBlock, W - b0);
+    const Eigen::MatrixXf dots = last.middleRows(b0, rows) * last.transpose();  // [rows, W]
+    for (int r = 0; r < rows; ++r) {
+      const int w = b0 + r;
+      const Window& wa = tw.windows[w];
+      const float* a_last = tw.clip_poses[wa.clip].data() + (wa.start + tw.t_his - 1) * frame;
+      const float* a_fut = a_last + frame;
+      cand.clear();
+      for (int v = 0; v < W; ++v) {
+        if (v == w) continue;
+        const float d2 = sq[w] + sq[v] - 2 * dots(r, v);
+        if (d2 > l2_bound * l2_bound) continue;
+        const Window& wb = tw.windows[v];
+        const float* b_last = tw.clip_poses[wb.clip].data() + (wb.start + tw.t_his - 1) * frame;
+        const float dist = MeanJointDistance(a_last, b_last, N);
+        if (dist > o.last_pose_threshold) continue;
+        float fut = 0;
+        for (int t = 0; t < tw.t_pred; ++t)
+          fut += MeanJointDistance(a_fut + t * frame, b_last + (t + 1) * frame, N);
+        if (fut / tw.t_pred < o.future_min_distance) continue;
+        cand.emplace_back(dist, v);
+      }
+      std::sort(cand.begin(), cand.end());
+      const size_t keep = std::min(cand.size(), static_cast<size_t>(o.max_per_window));
+      for (size_t i = 0; i < keep; ++i) out[w].push_back(cand[i].second);
+    }
+    if (progress) progress(double(b0 + rows) / W);
+  }
+  return out;
+}
+
+}  // namespace
+
+TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
+                                     const MultimodalOptions& options, const std::string& cache_dir,
+                                     const std::function<void(double)>& progress) {
+  TrainingWindows tw;
+  tw.t_his = dataset.protocol.t_his;
+  tw.t_pred = dataset.protocol.t_pred;
+  tw.num_nodes = dataset.skeleton.skeleton->num_joints() - 1;
+  const std::vector<int> train = dataset.ClipIndices(Split::kTrain);
+  if (train.empty())
+    throw std::invalid_argument("training: the protocol's training split is empty");
+  std::ostringstream key;
+  key << "mm1|" << dataset.protocol.name << "|" << stride << "|" << options.last_pose_threshold
+      << "|" << options.future_min_distance << "|" << options.max_per_window;
+  for (int c : train) {
+    const Clip& clip = dataset.clips[c];
+    tw.clip_poses.push_back(PoseVectorsWithoutRoot(clip.motion));
+    key << "|" << clip.name << ":" << clip.motion.num_frames();
+  }
+  tw.windows =
+      SlidingWindows(dataset.ClipFrames(train), tw.num_frames(), stride, /*include_last=*/true);
+  if (tw.windows.empty()) {
+    throw std::invalid_argument("training: no training clip has the " +
+                                std::to_string(tw.num_frames()) + " frames one window needs");
+  }
+  uint64_t h = Fnv1a64(key.str());
+  // Content matters too: hash a sample of the poses.
+  for (const auto& p : tw.clip_poses) {
+    std::string bytes(reinterpret_cast<const char*>(p.data()),
+                      std::min<size_t>(p.size(), 64) * sizeof(float));
+    h = Fnv1a64(bytes, h);
+  }
+  char name[64];
+  std::snprintf(name, sizeof(name), "multimodal-%016llx.bin", static_cast<unsigned long long>(h));
+  const std::string cache = cache_dir.empty() ? "" : (fs::path(cache_dir) / name).string();
+  if (!cache.empty() && fs::is_regular_file(cache)) {
+    const std::string bytes = ReadFileBytes(cache);
+    size_t pos = 0;
+    auto get = [&](void* dst, size_t n) {
+      if (pos + n > bytes.size())
+        throw FormatError(FormatMessage(cache, "", "truncated cache; delete it"));
+      std::memcpy(dst, bytes.data() + pos, n);
+      pos += n;
+    };
+    uint32_t count = 0;
+    get(&count, 4);
+    if (count == tw.windows.size()) {
+      tw.multimodal.resize(count);
+      for (auto& m : tw.multimodal) {
+        uint32_t n = 0;
+        get(&n, 4);
+        m.resize(n);
+        get(m.data(), n * 4);
+      }
+      return tw;
+    }
+  }
+  tw.multimodal = ComputeMultimodal(tw, options, progress);
+  if (!cache.empty()) {
+    std::string bytes;
+    auto put = [&](const void* src, size_t n) { bytes.append(static_cast<const char*>(src), n); };
+    const uint32_t count = static_cast<uint32_t>(tw.multimodal.size());
+    put(&count, 4);
+    for (const auto& m : tw.multimodal) {
+      const uint32_t n = static_cast<uint32_t>(m.size());
+      put(&n, 4);
+      put(m.data(), n * 4);
+    }
+    WriteFileAtomically(cache, bytes);
+  }
+  return tw;
+}
+
+}  // namespace motionfork

@@ -1,0 +1,56 @@
+#include "imputation/hgvae_options.h"
+
+#include <stdexcept>
+
+namespace motionfork {
+
+const char* ToString(ImputeObjective objective) {
+  return objective == ImputeObjective::kPosterior ? "posterior" : "joint";
+}
+
+ImputeObjective ParseImputeObjective(const std::string& text) {
+  if (text == "posterior") return ImputeObjective::kPosterior;
+  if (text == "joint") return ImputeObjective::kJoint;
+  throw std::invalid_argument("impute objective: expected 'posterior' or 'joint', got '" + text +
+                              "'");
+}
+
+void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {
+  auto fail = [](const std::string& m) { throw std::invalid_argument("hgvae model: " + m); };
+  if (o.levels.empty()) fail("levels: expected at least one level");
+  for (size_t l = 0; l < o.levels.size(); ++l) {
+    const HgvaeLevel& v = o.levels[l];
+    const std::string at = "levels[" + std::to_string(l) + "]";
+    if (v.nodes < 0 || v.features < 1) fail(at + ": expected nodes >= 0 and features >= 1");
+    if (num_coords > 0 && v.nodes > num_coords) {
+      fail(at + ": " + std::to_string(v.nodes) + " nodes, more than the " +
+           std::to_string(num_coords) + " coordinates of the full graph");
+    }
+  }
+  const int last = o.levels.back().nodes;
+  if (last != 0 && (num_coords == 0 || last != num_coords)) {
+    fail("the last (bottom) level must be the full graph: nodes 0 (= every coordinate)" +
+         (num_coords > 0 ? ", or " + std::to_string(num_coords) : std::string()) + "; got " +
+         std::to_string(last));
+  }
+  if (o.width < 1) fail("width: expected >= 1, got " + std::to_string(o.width));
+  if (o.encoder_blocks < 0 || o.decoder_blocks < 0)
+    fail("encoder_blocks/decoder_blocks: expected >= 0");
+  if (o.stochastic_levels < 0 || o.stochastic_levels > static_cast<int>(o.levels.size())) {
+    fail("stochastic_levels: expected 0 (all) .. " + std::to_string(o.levels.size()) + ", got " +
+         std::to_string(o.stochastic_levels));
+  }
+  if (o.window < 0) fail("window: expected >= 0 frames, got " + std::to_string(o.window));
+  if (o.label_dropout < 0 || o.label_dropout >= 1) fail("label_dropout: expected in [0, 1)");
+}
+
+HgvaeOptions ResolveHgvaeOptions(HgvaeOptions o, int num_coords, int t_his) {
+  for (HgvaeLevel& l : o.levels) {
+    if (l.nodes == 0) l.nodes = num_coords;
+  }
+  if (o.window == 0) o.window = t_his;
+  ValidateHgvaeOptions(o, num_coords);
+  return o;
+}
+
+}  // namespace motionfork
