@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "fma_peak.h"
+#include "generator/kernels/backend.h"
 #include "generator/kernels/panel_product.h"
 #include "generator/model/fused_ops.h"
 #include "torch_util/blas_core.h"
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
       return 0;
     }
   }
-  if (!kernels::Available()) {
+  if (kernels::ActiveBackend() != kernels::Backend::kAvx512) {
     std::printf("this CPU has no AVX-512: the panel kernel is not used here\n");
     return 0;
   }
