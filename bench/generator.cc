@@ -20,6 +20,7 @@
 #include "generator/inference/fused_generator.h"
 #include "generator/kernels/backend.h"
 #include "generator/model/generator_net.h"
+#include "generator_sizes.h"
 #include "peak_memory.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
@@ -66,16 +67,8 @@ int main(int argc, char** argv) {
   }
   PinThreads(threads);
   torch::manual_seed(0);
-  GeneratorOptions o;
-  o.num_nodes = 16;
-  o.t_his = 25;
-  o.t_pred = 100;
-  o.n_pre = 10;
-  o.hidden = 256;
-  o.blocks = 4;
-  o.nz = 64;
-  GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5},
-                                                        {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}});
+  const GeneratorOptions o = bench::H36mGeneratorOptions();
+  GeneratorNet net(o, bench::TwoParts16());
   net->eval();
   int64_t params = 0;
   for (const auto& p : net->parameters()) params += p.numel();

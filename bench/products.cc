@@ -37,6 +37,7 @@
 #include "generator/kernels/tanh.h"
 #include "generator/model/fused_ops.h"
 #include "generator/model/generator_net.h"
+#include "generator_sizes.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 #include "torch_util/threads.h"
@@ -214,16 +215,8 @@ int main(int argc, char** argv) {
        {{"AVX-512 MixRows", run}, {"portable MixRows", run, true}}, rounds_or(301));
   }
   if (Want(only, "fused")) {
-    GeneratorOptions o;  // GSPS's Human3.6M sizes, as bench_generator
-    o.num_nodes = 16;
-    o.t_his = 25;
-    o.t_pred = 100;
-    o.n_pre = 10;
-    o.hidden = 256;
-    o.blocks = 4;
-    o.nz = 64;
-    GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5},
-                                                          {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}});
+    const GeneratorOptions o = bench::H36mGeneratorOptions();  // as bench_generator
+    GeneratorNet net(o, bench::TwoParts16());
     net->eval();
     const FusedGenerator fused(*net);
     const int64_t k = 50;
