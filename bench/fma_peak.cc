@@ -9,9 +9,10 @@
 
 #include <cstdio>
 
+#include "generator/kernels/cpu_features.h"
+
 int main() {
-  __builtin_cpu_init();
-  if (!__builtin_cpu_supports("avx512f")) {
+  if (!motionfork::kernels::Cpu().avx512) {
     std::printf("this CPU has no AVX-512: nothing to measure\n");
     return 0;
   }

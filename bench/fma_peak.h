@@ -3,14 +3,17 @@
 // so only the core's FMA units and its clock at that moment limit it. GFLOP/s, 2 per multiply-add.
 #pragma once
 
-#include <immintrin.h>
-
 #include <chrono>
 #include <cstdio>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 namespace motionfork::bench {
 
-// Requires AVX-512 F (check __builtin_cpu_supports("avx512f") first).
+#if defined(__x86_64__) || defined(__i386__)
+// Requires AVX-512 F (check kernels::Cpu().avx512 first, generator/kernels/cpu_features.h).
 __attribute__((target("avx512f"))) inline double PeakGflops(long iterations) {
   constexpr int kChains = 12;  // enough independent chains to cover the FMA latency on two units
   // Different starting values: identical chains would be merged into one by the compiler.
@@ -31,5 +34,8 @@ __attribute__((target("avx512f"))) inline double PeakGflops(long iterations) {
   if (_mm512_reduce_add_ps(sum) < 0) std::printf("unreachable\n");  // the result is used
   return iterations * kChains * 16.0 * 2 / seconds / 1e9;
 }
+#else
+inline double PeakGflops(long) { return 0; }  // no AVX-512 off x86
+#endif
 
 }  // namespace motionfork::bench

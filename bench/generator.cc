@@ -3,8 +3,8 @@
 //   bench_generator [--threads N]
 //
 // Sizes: 16 nodes, t_his 25, t_pred 100, n_pre 10, hidden 256, 4 blocks, nz 64, 2 parts.
-// Prints, for the fused path (FusedGenerator, AVX-512 CPUs) and for the LibTorch network: ms for
-// 50 futures of one history; histories/s for 16 histories x 50 futures; FLOPs and achieved
+// Prints, for the fused path (FusedGenerator on its AVX-512 kernels) and for the LibTorch network:
+// ms for 50 futures of one history; histories/s for 16 histories x 50 futures; FLOPs and achieved
 // GFLOP/s of the graph-conv products; the process's peak resident memory after each stage; the
 // network's training step (forward + backward, no losses).
 #include <torch/torch.h>
@@ -18,7 +18,9 @@
 
 #include "fma_peak.h"
 #include "generator/inference/fused_generator.h"
+#include "generator/kernels/backend.h"
 #include "generator/model/generator_net.h"
+#include "generator_sizes.h"
 #include "peak_memory.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
@@ -65,16 +67,8 @@ int main(int argc, char** argv) {
   }
   PinThreads(threads);
   torch::manual_seed(0);
-  GeneratorOptions o;
-  o.num_nodes = 16;
-  o.t_his = 25;
-  o.t_pred = 100;
-  o.n_pre = 10;
-  o.hidden = 256;
-  o.blocks = 4;
-  o.nz = 64;
-  GeneratorNet net(o, std::vector<std::vector<int64_t>>{{0, 1, 2, 3, 4, 5},
-                                                        {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}});
+  const GeneratorOptions o = bench::H36mGeneratorOptions();
+  GeneratorNet net(o, bench::TwoParts16());
   net->eval();
   int64_t params = 0;
   for (const auto& p : net->parameters()) params += p.numel();
@@ -84,8 +78,9 @@ int main(int argc, char** argv) {
 
   std::printf("peak resident memory with the network built: %.0f MB\n",
               bench::PeakResidentMegabytes());
-  // The fused AVX-512 path (FusedGenerator, what Forecaster uses on such CPUs): same work.
-  if (FusedGenerator::Available()) {
+  // The fused path on its AVX-512 kernels (FusedGenerator, what Forecaster uses; on CPUs
+  // without AVX-512 it runs the portable kernels, which bench_products compares): same work.
+  if (kernels::ActiveBackend() == kernels::Backend::kAvx512) {
     // The core's peak varies on this machine kind (up to 20% between hours): measured here,
     // before and after, so that the share of peak compares runs.
     bench::PeakGflops(20000000);

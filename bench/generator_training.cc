@@ -36,6 +36,7 @@
 #include "generator/model/generator_net.h"
 #include "generator/model/latents.h"
 #include "generator/training/losses.h"
+#include "generator_sizes.h"
 #include "peak_memory.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
@@ -74,14 +75,7 @@ int main(int argc, char** argv) {
   const std::shared_ptr<const Skeleton> skeleton =
       LoadSkeletonConfig(configs + "/skeletons/h36m.yaml").skeleton;
   const PartPlan plan = MakePartPlan(*skeleton, "default");
-  GeneratorOptions o;
-  o.num_nodes = skeleton->num_joints() - 1;
-  o.t_his = 25;
-  o.t_pred = 100;
-  o.n_pre = 10;
-  o.hidden = 256;
-  o.blocks = 4;
-  o.nz = 64;
+  const GeneratorOptions o = bench::H36mGeneratorOptions(skeleton->num_joints() - 1);
   GeneratorNet net(o, plan.nodes);
   net->train();
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(1e-3));

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -86,16 +87,20 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// A test that cannot run here and would skip: under CI=true (where every test must run) throws
+// `why`, so the test fails; elsewhere returns and the caller skips (prints "SKIPPED: ...").
+inline void FailUnderCi(const std::string& why) {
+  const char* ci = std::getenv("CI");
+  if (ci && std::string(ci) == "true") throw std::runtime_error("CI=true but " + why);
+}
+
 // Real data lives in ../shared. Returns its path, or "" when the test should skip (prints the
 // reason as "SKIPPED: ..." so CTest reports a skip). Under CI=true a missing folder fails.
 inline std::string SharedDataDir(const std::string& sub) {
   const std::filesystem::path dir = std::filesystem::path(MOTIONFORK_SHARED_DIR) / sub;
   if (std::filesystem::exists(dir)) return dir.string();
-  const char* ci = std::getenv("CI");
-  if (ci && std::string(ci) == "true") {
-    throw std::runtime_error("CI=true but the shared data folder " + dir.string() +
-                             " is missing; CI must run the real-data tests");
-  }
+  FailUnderCi("the shared data folder " + dir.string() +
+              " is missing; CI must run the real-data tests");
   return "";
 }
 

@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cstdlib>
 
+#include "generator/kernels/cpu_features.h"
+
 // OpenBLAS's C entry point (libopenblas), weak: absent when another BLAS is linked.
 extern "C" char* openblas_get_corename(void) __attribute__((weak));
 
@@ -28,13 +30,10 @@ std::string BetterBlasCore() {
                                          "nehalem",   "atom",   "katmai", "coppermine",
                                          "northwood", "banias", "unknown"};
   if (std::find(std::begin(kGeneric), std::end(kGeneric), core) == std::end(kGeneric)) return "";
-  __builtin_cpu_init();  // the checks below include the OS's support for the wider registers
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq")) {
-    return "SkylakeX";
-  }
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return "Haswell";
-  if (__builtin_cpu_supports("avx")) return "SandyBridge";
+  const kernels::CpuFeatures& cpu = kernels::Cpu();  // the one probe (OS support included)
+  if (cpu.avx512) return "SkylakeX";
+  if (cpu.avx2_fma) return "Haswell";
+  if (cpu.avx) return "SandyBridge";
   return "";
 }
 

@@ -2,8 +2,12 @@
 
 #include <cmath>
 
+#include "generator/kernels/backend.h"
+#include "generator/kernels/cpu_features.h"
 #include "generator/kernels/panel_product.h"
+#include "generator/kernels/tanh.h"
 #include "generator/model/generator_net.h"
+#include "test_support.h"
 #include "torch_catch.h"
 #include "torch_util/threads.h"
 
@@ -11,11 +15,30 @@ using namespace motionfork;
 
 namespace {
 
-// The kernels need AVX-512; elsewhere FusedGenerator is not used (Forecaster keeps GeneratorNet).
-bool KernelsOrSkip() {
-  if (FusedGenerator::Available()) return true;
-  WARN("skipped: this CPU has no AVX-512, the fused generator kernels are not used here");
-  return false;
+// Each test runs on both backends of the kernels (generator/kernels/backend.h), as two test
+// cases: the portable one on every CPU, the AVX-512 one where it runs.
+struct PortableKernels {
+  PortableKernels() { kernels::UsePortableKernels(true); }
+  ~PortableKernels() { kernels::UsePortableKernels(false); }
+};
+
+// The AVX-512 backend's cases skip (print "SKIPPED: ...", which CTest shows as a skip) in a build
+// without that backend (MOTIONFORK_AVX512=OFF, or a compiler or target without AVX-512) and on a
+// CPU without AVX-512; under CI=true the latter fails: a build with the backend must test it.
+bool Avx512OrSkip() {
+  if (!kernels::Avx512Built()) {
+    WARN(
+        "SKIPPED: this build has no AVX-512 kernels (MOTIONFORK_AVX512=OFF or no compiler "
+        "support); the portable ones are tested");
+    return false;
+  }
+  if (!kernels::Cpu().avx512) {
+    testing::FailUnderCi("this CPU has no AVX-512, so this build's AVX-512 kernels go untested");
+    WARN("SKIPPED: this CPU has no AVX-512; the portable kernels are tested");
+    return false;
+  }
+  REQUIRE(kernels::ActiveBackend() == kernels::Backend::kAvx512);
+  return true;
 }
 
 // Batch-norm statistics away from their initial 0 / 1, so folding them is exercised.
@@ -31,7 +54,7 @@ void RandomiseNorms(GeneratorNetImpl& net) {
   }
 }
 
-// Max |fast - LibTorch| over the futures of `histories` x k samples.
+// Max |fused - LibTorch| over the futures of `histories` x k samples.
 double MaxDifference(const GeneratorOptions& o, const std::vector<std::vector<int64_t>>& parts,
                      int64_t histories, int64_t k, const std::vector<bool>& fixed, uint64_t seed) {
   torch::manual_seed(seed);
@@ -75,10 +98,7 @@ GeneratorOptions Sizes(int nodes, int hidden, int n_pre, bool batch_norm) {
   return o;
 }
 
-}  // namespace
-
-TEST_CASE("fused tanh kernel stays within 3e-7 of std::tanh") {
-  if (!KernelsOrSkip()) return;
+void TanhAccuracy() {
   std::vector<float> x;
   for (int i = -200000; i <= 200000; ++i) x.push_back(static_cast<float>(i) * 1e-4f);
   for (float v : {-1e4f, -30.0f, -9.5f, 9.5f, 30.0f, 1e4f, 1e-30f, -1e-30f, 0.0f}) x.push_back(v);
@@ -88,10 +108,12 @@ TEST_CASE("fused tanh kernel stays within 3e-7 of std::tanh") {
   for (size_t i = 0; i < x.size(); ++i)
     worst = std::max(worst, std::abs(double(y[i]) - std::tanh(double(x[i]))));
   CHECK(worst < 3e-7);
+  float nan = std::nanf("");
+  kernels::Tanh(&nan, 1);
+  CHECK(std::isnan(nan));
 }
 
-TEST_CASE("fused matrix product matches a plain one for every tile and padding shape") {
-  if (!KernelsOrSkip()) return;
+void MatMulShapes() {
   for (int64_t m : {1, 5, 12, 13, 40, 96, 103}) {
     for (int64_t kk : {1, 7, 30}) {
       for (int64_t cols : {1, 16, 30, 33, 64}) {
@@ -115,8 +137,7 @@ TEST_CASE("fused matrix product matches a plain one for every tile and padding s
   }
 }
 
-TEST_CASE("fast generator gives the LibTorch network's futures") {
-  if (!KernelsOrSkip()) return;
+void SameFutures() {
   PinThreads(1);
   // H36M-like: 16 nodes, two parts; odd sizes: 20 nodes (tiles of 12 cross samples), hidden 48
   // and 96 (column tails), no batch norm, three parts.
@@ -135,8 +156,7 @@ TEST_CASE("fast generator gives the LibTorch network's futures") {
   }
 }
 
-TEST_CASE("fast generator: a sample's future does not depend on its batch") {
-  if (!KernelsOrSkip()) return;
+void BatchIndependence() {
   // Small sizes, and H36M's hidden width with 2 and 50 samples (few rows take the products' tail
   // tiles; 50 samples cross the 48-row product chunks).
   struct Case {
@@ -174,4 +194,44 @@ TEST_CASE("fast generator: a sample's future does not depend on its batch") {
         fast.Predict(h.data_ptr<float>(), 3, k, {z0.data_ptr<float>()}, {}, all.data()),
         Catch::Contains("expected 2 latents"));
   }
+}
+
+}  // namespace
+
+TEST_CASE("fused tanh kernel stays within 3e-7 of std::tanh, portable kernels") {
+  PortableKernels portable;
+  TanhAccuracy();
+}
+
+TEST_CASE("fused tanh kernel stays within 3e-7 of std::tanh, AVX-512 kernels") {
+  if (Avx512OrSkip()) TanhAccuracy();
+}
+
+TEST_CASE(
+    "fused matrix product matches a plain one for every tile and padding shape, portable kernels") {
+  PortableKernels portable;
+  MatMulShapes();
+}
+
+TEST_CASE(
+    "fused matrix product matches a plain one for every tile and padding shape, AVX-512 kernels") {
+  if (Avx512OrSkip()) MatMulShapes();
+}
+
+TEST_CASE("fused generator gives the LibTorch network's futures, portable kernels") {
+  PortableKernels portable;
+  SameFutures();
+}
+
+TEST_CASE("fused generator gives the LibTorch network's futures, AVX-512 kernels") {
+  if (Avx512OrSkip()) SameFutures();
+}
+
+TEST_CASE("fused generator: a sample's future does not depend on its batch, portable kernels") {
+  PortableKernels portable;
+  BatchIndependence();
+}
+
+TEST_CASE("fused generator: a sample's future does not depend on its batch, AVX-512 kernels") {
+  if (Avx512OrSkip()) BatchIndependence();
 }

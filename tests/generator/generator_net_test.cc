@@ -120,7 +120,7 @@ TEST_CASE("generator rejects mismatched inputs") {
                     Catch::Contains("expected 2 latents"));
 }
 
-#include "generator/kernels/panel_product.h"
+#include "generator/kernels/backend.h"
 #include "generator/model/fused_ops.h"
 
 TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and gradients") {
@@ -132,7 +132,7 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
                std::vector<int64_t>{2, 33, 40});
   const bool with_bias = GENERATE(false, true);
   INFO("portable " << portable << ", shape " << c10::str(shape) << ", bias " << with_bias);
-  UsePortableKernelsForTesting(portable);
+  kernels::UsePortableKernels(portable);
   const int64_t N = shape[0], H = shape[2];
   const torch::Tensor x0 = torch::randn(shape) * 2 + 0.5;
   const torch::Tensor g0 = torch::randn({N, 1, H}), b0 = torch::randn({N, 1, H}),
@@ -159,13 +159,13 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
     return out;
   };
   const auto a = run(true), r = run(false);
-  UsePortableKernelsForTesting(false);
+  kernels::UsePortableKernels(false);
   for (size_t i = 0; i < a.size(); ++i) {
     INFO("output " << i);
     CHECK(torch::allclose(a[i], r[i], 1e-4, 1e-5));
   }
   const torch::Tensor t = torch::randn({1000}) * 5;
-  CHECK(torch::allclose(FastTanh(t), torch::tanh(t), 1e-6, 1e-6));
+  CHECK(torch::allclose(FusedTanh(t), torch::tanh(t), 1e-6, 1e-6));
   const torch::Tensor s = torch::randn({N, 1, H}), sh = torch::randn({N, 1, H});
   CHECK(torch::allclose(ScaleShiftTanh(x0, s, sh), torch::tanh(x0 * s + sh), 1e-6, 1e-6));
 }
@@ -178,7 +178,7 @@ TEST_CASE("node mix kernel matches the matrix product, values and gradients") {
                std::vector<int64_t>{5, 300, 33});
   const bool portable = GENERATE(false, true);
   INFO("portable " << portable << ", shape " << c10::str(shape));
-  UsePortableKernelsForTesting(portable);
+  kernels::UsePortableKernels(portable);
   const int64_t N = shape[0];
   const torch::Tensor a0 = torch::randn({N, N}), x0 = torch::randn(shape);
   const torch::Tensor w = torch::randn(shape);  // weighs each output
@@ -188,7 +188,7 @@ TEST_CASE("node mix kernel matches the matrix product, values and gradients") {
   torch::Tensor ra = a0.clone().requires_grad_(true), rx = x0.clone().requires_grad_(true);
   const torch::Tensor r = ra.mm(rx.view({N, -1})).view(shape);
   (r * w).sum().backward();
-  UsePortableKernelsForTesting(false);
+  kernels::UsePortableKernels(false);
   CHECK(torch::allclose(y, r, 1e-5, 1e-5));
   CHECK(torch::allclose(a.grad(), ra.grad(), 1e-4, 1e-4));
   CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-5));
@@ -205,7 +205,7 @@ TEST_CASE("weight product kernel matches the matrix product, values and gradient
                std::vector<int64_t>{17, 32, 64});
   const bool portable = GENERATE(false, true);
   INFO("portable " << portable << ", rows, in, out " << c10::str(shape));
-  UsePortableKernelsForTesting(portable);
+  kernels::UsePortableKernels(portable);
   const torch::Tensor x0 = torch::randn({shape[0], shape[1]}),
                       w0 = torch::randn({shape[1], shape[2]});
   const torch::Tensor weigh = torch::randn({shape[0], shape[2]});  // weighs each output
@@ -215,14 +215,15 @@ TEST_CASE("weight product kernel matches the matrix product, values and gradient
   torch::Tensor rx = x0.clone().requires_grad_(true), rw = w0.clone().requires_grad_(true);
   const torch::Tensor r = rx.mm(rw);
   (r * weigh).sum().backward();
-  UsePortableKernelsForTesting(false);
+  kernels::UsePortableKernels(false);
   CHECK(torch::allclose(y, r, 1e-5, 1e-4));
   CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-4));
   CHECK(torch::allclose(w.grad(), rw.grad(), 1e-5, 1e-4));
   // Where the kernel runs, a row's product does not depend on the rows around it (bit for bit).
   // Shapes (and CPUs) left to LibTorch are not held to it: OpenBLAS's Haswell kernels round a row
   // differently by its place in the batch.
-  if (motionfork::kernels::Available() && shape[0] > 4099 && shape[2] % 16 == 0) {
+  if (kernels::ActiveBackend() == kernels::Backend::kAvx512 && shape[0] > 4099 &&
+      shape[2] % 16 == 0) {
     torch::NoGradGuard no_grad;
     const torch::Tensor all = WeightProduct(x0, w0);
     CHECK(torch::equal(WeightProduct(x0.slice(0, 0, 4099), w0).slice(0, 4098),

@@ -19,8 +19,9 @@ struct Forecaster::Impl {
   std::shared_ptr<const Skeleton> skeleton;
   PartPlan parts;
   GeneratorNet net{nullptr};
-  // The fused inference path (AVX-512 CPUs; MOTIONFORK_FAST_GENERATOR=0 turns it off): the same
-  // futures as `net` up to float rounding, 1.2-1.6x faster (bench_generator, BENCHMARKS.md).
+  // The fused inference path (every CPU; MOTIONFORK_FAST_GENERATOR=0 turns it off and runs `net`):
+  // the same futures as `net` up to float rounding, 1.2-1.6x faster with the AVX-512 kernels
+  // (bench_generator, BENCHMARKS.md).
   std::unique_ptr<FusedGenerator> fused;
   std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
 };
@@ -34,7 +35,7 @@ Forecaster Forecaster::Load(const std::string& bundle_dir) {
   auto impl = std::make_unique<Impl>();
   impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
   const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
-  if (FusedGenerator::Available() && !(fast_env && std::string(fast_env) == "0")) {
+  if (!(fast_env && std::string(fast_env) == "0")) {
     impl->fused = std::make_unique<FusedGenerator>(*impl->net);
   }
   impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));

@@ -38,7 +38,9 @@ struct Forecast {
 
 class Forecaster {
  public:
-  // Throws FormatError naming the missing or malformed file.
+  // Throws FormatError naming the missing or malformed file. Predictions run the fused generator
+  // (inference/fused_generator.h, any CPU); with $MOTIONFORK_FAST_GENERATOR=0 at load time they
+  // run the LibTorch network instead (for comparisons; same futures within 1e-5 m).
   static Forecaster Load(const std::string& bundle_dir);
   ~Forecaster();
   Forecaster(Forecaster&&) noexcept;

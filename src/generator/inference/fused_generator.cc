@@ -128,8 +128,6 @@ struct FusedGenerator::Model {
                Work& w) const;
 };
 
-bool FusedGenerator::Available() { return kernels::Available(); }
-
 FusedGenerator::FusedGenerator(const GeneratorNetImpl& net) : model_(std::make_unique<Model>()) {
   Model& m = *model_;
   const GeneratorOptions& o = net.options();

@@ -1,7 +1,9 @@
 // The generator's inference path without LibTorch's per-operation cost: the trained network's
 // weights copied once (batch norm folded into a scale and shift per node and feature, weight
-// matrices packed) and run by the fused AVX-512 kernels of kernels/panel_product.h. Same futures as
-// GeneratorNet::forward in eval mode up to float rounding (a test holds them within 1e-5 m).
+// matrices packed) and run by the fused kernels of kernels/panel_product.h (AVX-512 or portable
+// backend, chosen per call: kernels/backend.h), so it runs on any CPU. Same futures as
+// GeneratorNet::forward in eval mode up to float rounding (a test holds them within 1e-5 m on
+// both backends).
 //
 // Work that does not depend on the latent is done once per history: the history's DCT, and the
 // first part's input product X W_x (the latent's share z W_z is one row per sample, added to
@@ -18,9 +20,6 @@ class GeneratorNetImpl;
 
 class FusedGenerator {
  public:
-  // True when this CPU runs the kernels (AVX-512); otherwise use GeneratorNet.
-  static bool Available();
-
   // Copies the network's eval-mode weights; the network may change or go afterwards.
   explicit FusedGenerator(const GeneratorNetImpl& net);
   ~FusedGenerator();

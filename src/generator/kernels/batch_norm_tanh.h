@@ -1,8 +1,8 @@
-// AVX-512 kernels for the generator's training-mode hidden-layer activation: batch norm over the
-// samples of one graph node (statistics per feature) followed by tanh, forward and backward, in a
-// few passes over one node's [B, H] slab (1.6 MB at the sizes: it stays in the core's L2
-// between passes). No LibTorch; the caller (fused_ops.cc) loops over nodes and falls back to
-// portable code when kernels::Available() is false.
+// Kernels for the generator's training-mode hidden-layer activation: batch norm over the samples
+// of one graph node (statistics per feature) followed by tanh, forward and backward. The AVX-512
+// backend makes a few passes over one node's [B, H] slab (1.6 MB at the sizes: it stays in
+// the core's L2 between passes); the portable one (Eigen) runs anywhere (backend.h). No LibTorch;
+// the caller (model/fused_ops.cc) loops over nodes.
 #pragma once
 
 #include <cstdint>

@@ -1,15 +1,15 @@
 // The AVX-512 bodies of batch_norm_tanh.h (compiled with -march=skylake-avx512, called only
-// when kernels::Available()). The passes over one node's rows run on a block of 64 columns (four
-// registers) at a time: the block's slabs of x, y, gy and gx (1600 rows: 400 KB each) stay in L2
-// from one pass to the next, so each is read from memory once, and the per-feature sums stay in
+// when that backend runs, backend.h). The passes over one node's rows run on a block of 64 columns
+// (four registers) at a time: the block's slabs of x, y, gy and gx (1600 rows: 400 KB each) stay in
+// L2 from one pass to the next, so each is read from memory once, and the per-feature sums stay in
 // registers over all rows (sums kept in memory made every row wait for the previous row's store).
 #include <immintrin.h>
 
 #include <cstdint>
 
-#include "generator/kernels/batch_norm_tanh.h"
+#include "generator/kernels/backends.h"
 
-namespace motionfork::kernels {
+namespace motionfork::kernels::avx512 {
 namespace {
 
 #include "generator/kernels/mask_avx512.inc"
@@ -149,4 +149,4 @@ void BatchNormTanhBackward(const float* gy, const float* x, const float* y, cons
   }
 }
 
-}  // namespace motionfork::kernels
+}  // namespace motionfork::kernels::avx512

@@ -2,8 +2,9 @@
 // adjacency A [N, N] and node-major S [N, C] (C = samples x features, 409,600 at the issue's
 // sizes). A general matrix product packs S into panels and clears Y before accumulating (three
 // extra passes over 26 MB); this reads S once and writes Y once, 64 columns of all N rows at a time
-// (N x 256 bytes, L1-resident). No LibTorch; the caller (fused_ops.cc) falls back to a matrix
-// product when kernels::Available() is false.
+// (N x 256 bytes, L1-resident). No LibTorch. AVX-512 only: call these only when
+// ActiveBackend() == Backend::kAvx512 (backend.h; they throw std::logic_error otherwise); the
+// portable path is a matrix product, which the caller (model/fused_ops.cc) runs instead.
 #pragma once
 
 #include <cstdint>

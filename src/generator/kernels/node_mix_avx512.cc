@@ -1,12 +1,12 @@
 // The AVX-512 body of node_mix.h (compiled with -march=skylake-avx512, called only when
-// kernels::Available()).
+// that backend runs, backend.h).
 #include <immintrin.h>
 
 #include <cstdint>
 
-#include "generator/kernels/node_mix.h"
+#include "generator/kernels/backends.h"
 
-namespace motionfork::kernels {
+namespace motionfork::kernels::avx512 {
 
 namespace {
 
@@ -74,4 +74,4 @@ void NodeMixBackward(const float* at, int64_t nodes, const float* g, const float
   _mm_free(part);
 }
 
-}  // namespace motionfork::kernels
+}  // namespace motionfork::kernels::avx512

@@ -1,4 +1,4 @@
-// The parts of panel_product.h that need no AVX-512: the CPU check, buffers, weight packing.
+// Buffers, weight packing and the choice of backend for panel_product.h.
 #include "generator/kernels/panel_product.h"
 
 #include <algorithm>
@@ -6,13 +6,10 @@
 #include <cstring>
 #include <new>
 
-namespace motionfork::kernels {
+#include "generator/kernels/backend.h"
+#include "generator/kernels/backends.h"
 
-bool Available() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
-}
+namespace motionfork::kernels {
 
 AlignedFloats::AlignedFloats(int64_t n, bool zero) : data(nullptr, std::free), size(n) {
   if (n <= 0) return;
@@ -41,6 +38,23 @@ PackedWeight PackWeight(const float* w, int64_t rows, int64_t cols) {
     }
   }
   return p;
+}
+
+void MatMul(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float* z) {
+#ifdef MOTIONFORK_KERNELS_AVX512
+  if (ActiveBackend() == Backend::kAvx512) return avx512::MatMul(x, m, ldx, w, z);
+#endif
+  portable::MatMul(x, m, ldx, w, z);
+}
+
+void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width,
+             const float* shared, const int64_t* nodes, int64_t count, const float* residual,
+             float* out, int64_t ld) {
+#ifdef MOTIONFORK_KERNELS_AVX512
+  if (ActiveBackend() == Backend::kAvx512)
+    return avx512::MixRows(e, z, padded, width, shared, nodes, count, residual, out, ld);
+#endif
+  portable::MixRows(e, z, padded, width, shared, nodes, count, residual, out, ld);
 }
 
 }  // namespace motionfork::kernels

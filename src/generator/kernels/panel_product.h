@@ -1,11 +1,11 @@
-// Fused AVX-512 kernels for generator inference (no LibTorch, no autograd): one graph-conv layer
+// Fused kernels for generator inference (no LibTorch, no autograd): one graph-conv layer
 // Y = act((A (X W) + b) * s + t) [+ R] computed sample by sample, with the weight matrix packed
 // once and the adjacency mix, batch-norm scale and shift, tanh and residual applied while the
 // sample's rows are still in the core's cache.
 //
 // Layout: sample-major [B, N, F]: sample b's N node rows are contiguous (row n at (b * N + n) * F).
-// MatMul also serves training's products x W and g W^T (fused_ops.h, WeightProduct).
-// Every function requires a CPU with AVX-512 (Available()); callers fall back to LibTorch when not.
+// MatMul also serves training's products x W and g W^T (model/fused_ops.h, WeightProduct).
+// MatMul and MixRows run the AVX-512 backend or the portable one (backend.h); both run anywhere.
 #pragma once
 
 #include <cstddef>
@@ -13,9 +13,6 @@
 #include <memory>
 
 namespace motionfork::kernels {
-
-// True when the CPU runs the AVX-512 kernels (AVX-512 F, DQ, BW and VL).
-bool Available();
 
 // A float buffer aligned to 64 bytes (one AVX-512 register), zero-filled unless zero = false.
 struct AlignedFloats {
@@ -58,8 +55,5 @@ struct LayerEpilogue {
 void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width,
              const float* shared, const int64_t* nodes, int64_t count, const float* residual,
              float* out, int64_t ld);
-
-// x[i] = tanh(x[i]), within 3e-7 of std::tanh (exposed for the tests).
-void Tanh(float* x, int64_t n);
 
 }  // namespace motionfork::kernels

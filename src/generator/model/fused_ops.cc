@@ -2,33 +2,30 @@
 
 #include <ATen/Parallel.h>
 
-#include <Eigen/Core>
 #include <algorithm>
-#include <atomic>
 
+#include "generator/kernels/backend.h"
 #include "generator/kernels/batch_norm_tanh.h"
-#include "generator/kernels/fast_tanh.h"
 #include "generator/kernels/node_mix.h"
 #include "generator/kernels/panel_product.h"
+#include "generator/kernels/tanh.h"
 
 namespace motionfork {
 
 namespace {
 
-std::atomic<bool> force_portable{false};
-
-bool UseAvx512() { return !force_portable.load() && kernels::Available(); }
+// The AVX-512 kernels without a portable twin here (node mix, weight product) run only then;
+// otherwise LibTorch's matrix product does their work.
+bool UseAvx512() { return kernels::ActiveBackend() == kernels::Backend::kAvx512; }
 
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
-using Row = Eigen::Map<Eigen::ArrayXf>;
-using ConstRow = Eigen::Map<const Eigen::ArrayXf>;
 
-class FastTanhFn : public torch::autograd::Function<FastTanhFn> {
+class FusedTanhFn : public torch::autograd::Function<FusedTanhFn> {
  public:
   static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& x) {
     torch::Tensor y = x.contiguous().clone();
-    fast::Tanh(y.data_ptr<float>(), y.numel());
+    kernels::Tanh(y.data_ptr<float>(), y.numel());
     ctx->save_for_backward({y});
     return y;
   }
@@ -55,28 +52,11 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
                 *pb = beta.data_ptr<float>();
     float *py = y.data_ptr<float>(), *pm = mean.data_ptr<float>(), *pv = var.data_ptr<float>(),
           *pi = inv.data_ptr<float>();
-    const bool avx512 = UseAvx512();
     at::parallel_for(0, N, 1, [&](int64_t n0, int64_t n1) {
       for (int64_t n = n0; n < n1; ++n) {
         const int64_t o = n * B * H, c = n * H;
-        if (avx512) {
-          kernels::BatchNormTanhForward(px + o, B, H, pg + c, pb + c, static_cast<float>(eps),
-                                        pm + c, pv + c, pi + c, py + o);
-          continue;
-        }
-        Row m(pm + c, H), v(pv + c, H), iv(pi + c, H);
-        m.setZero();
-        v.setZero();
-        for (int64_t b = 0; b < B; ++b) m += ConstRow(px + o + b * H, H);
-        m /= static_cast<float>(B);
-        for (int64_t b = 0; b < B; ++b) v += (ConstRow(px + o + b * H, H) - m).square();
-        v /= static_cast<float>(B);
-        iv = (v + static_cast<float>(eps)).rsqrt();
-        const Eigen::ArrayXf k = iv * ConstRow(pg + c, H);
-        for (int64_t b = 0; b < B; ++b) {
-          Row(py + o + b * H, H) = (ConstRow(px + o + b * H, H) - m) * k + ConstRow(pb + c, H);
-        }
-        fast::Tanh(py + o, B * H);
+        kernels::BatchNormTanhForward(px + o, B, H, pg + c, pb + c, static_cast<float>(eps), pm + c,
+                                      pv + c, pi + c, py + o);
       }
     });
     ctx->save_for_backward({x, y, gamma, mean, inv});
@@ -98,38 +78,11 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
                 *pg = gamma.data_ptr<float>();
     float *pgx = gx.data_ptr<float>(), *pgg = ggamma.data_ptr<float>(),
           *pgb = gbeta.data_ptr<float>(), *pgs = gsum.data_ptr<float>();
-    const bool avx512 = UseAvx512();
     at::parallel_for(0, N, 1, [&](int64_t n0, int64_t n1) {
       for (int64_t n = n0; n < n1; ++n) {
         const int64_t o = n * B * H, c = n * H;
-        if (avx512) {
-          kernels::BatchNormTanhBackward(pgy + o, px + o, py + o, pm + c, pi + c, pg + c, B, H,
-                                         pgx + o, pgg + c, pgb + c, pgs + c);
-          continue;
-        }
-        Row gg(pgg + c, H), gb(pgb + c, H);
-        const ConstRow m(pm + c, H), iv(pi + c, H);
-        gg.setZero();
-        gb.setZero();
-        // gu = gy * (1 - y^2), kept in gx for now; xhat = (x - mean) * inv.
-        for (int64_t b = 0; b < B; ++b) {
-          const int64_t r = o + b * H;
-          Row gu(pgx + r, H);
-          const ConstRow yy(py + r, H);
-          gu = ConstRow(pgy + r, H) * (1.0f - yy * yy);
-          gb += gu;
-          gg += gu * (ConstRow(px + r, H) - m) * iv;
-        }
-        // gx = gamma * inv / B * (B * gu - sum(gu) - xhat * sum(gu * xhat))
-        const Eigen::ArrayXf k = ConstRow(pg + c, H) * iv / static_cast<float>(B);
-        Row sum(pgs + c, H);
-        sum.setZero();
-        for (int64_t b = 0; b < B; ++b) {
-          const int64_t r = o + b * H;
-          Row g(pgx + r, H);
-          g = k * (static_cast<float>(B) * g - gb - (ConstRow(px + r, H) - m) * iv * gg);
-          sum += g;
-        }
+        kernels::BatchNormTanhBackward(pgy + o, px + o, py + o, pm + c, pi + c, pg + c, B, H,
+                                       pgx + o, pgg + c, pgb + c, pgs + c);
       }
     });
     return {gx, ggamma, gbeta, gsum.sum(0), torch::Tensor()};
@@ -227,9 +180,7 @@ torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x) {
   return NodeMixFn::apply(adjacency, x);
 }
 
-void UsePortableKernelsForTesting(bool on) { force_portable = on; }
-
-torch::Tensor FastTanh(const torch::Tensor& x) { return FastTanhFn::apply(x); }
+torch::Tensor FusedTanh(const torch::Tensor& x) { return FusedTanhFn::apply(x); }
 
 torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
@@ -246,8 +197,8 @@ torch::Tensor ScaleShiftTanh(const torch::Tensor& x, const torch::Tensor& scale,
                              const torch::Tensor& shift) {
   torch::Tensor y = x.contiguous().clone();
   const torch::Tensor s = scale.contiguous(), t = shift.contiguous();
-  fast::ScaleShiftTanh(y.data_ptr<float>(), s.data_ptr<float>(), t.data_ptr<float>(),
-                       y.size(0) * y.size(1), y.size(1), y.size(2));
+  kernels::ScaleShiftTanh(y.data_ptr<float>(), s.data_ptr<float>(), t.data_ptr<float>(),
+                          y.size(0) * y.size(1), y.size(1), y.size(2));
   return y;
 }
 

@@ -9,8 +9,8 @@
 
 namespace motionfork {
 
-// tanh(x), x any contiguous float tensor; differentiable.
-torch::Tensor FastTanh(const torch::Tensor& x);
+// tanh(x) by kernels::Tanh (kernels/tanh.h), x any contiguous float tensor; differentiable.
+torch::Tensor FusedTanh(const torch::Tensor& x);
 
 // Training-mode batch norm over dimension 1 of x + bias (x [N, B, H], bias [H] or undefined:
 // statistics per (node, feature)), affine gamma/beta [N, 1, H], then tanh; differentiable in x,
@@ -22,7 +22,8 @@ torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             torch::Tensor* var, const torch::Tensor& bias = {});
 
 // A x for node-major x [N, ...] (the graph convolution's node mix, N x N adjacency): one pass
-// over x with the AVX-512 kernel (kernels/node_mix.h), else a matrix product; differentiable.
+// over x with the AVX-512 kernel (kernels/node_mix.h) where that backend runs (kernels/backend.h),
+// else a matrix product; differentiable.
 torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x);
 
 // x [M, K] times w [K, H] through the packed-panel kernel of kernels/panel_product.h (rows split
@@ -30,9 +31,6 @@ torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x);
 // (OpenBLAS). LibTorch's product when H (or, for dx, K) is not a multiple of 16, for fewer than
 // 4,096 rows (packing W would cost more than it saves) or without AVX-512.
 torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w);
-
-// Tests: run the portable code even on a CPU with AVX-512 (kernels/batch_norm_tanh.h), or not.
-void UsePortableKernelsForTesting(bool on);
 
 // Inference: tanh(x * scale + shift), scale/shift [N, 1, H], x [N, B, H]; no gradient.
 torch::Tensor ScaleShiftTanh(const torch::Tensor& x, const torch::Tensor& scale,

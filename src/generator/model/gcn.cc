@@ -69,7 +69,7 @@ torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tenso
   torch::Tensor y;
   const double n = static_cast<double>(x.size(1) * copies);  // samples the batch stands for
   if (!norm) {
-    y = FastTanh(conv->forward(x, z));
+    y = FusedTanh(conv->forward(x, z));
   } else if (is_training() && n > 1) {
     // The conv's bias goes to the batch norm, which cancels it (it is never added).
     torch::Tensor mean, var;
@@ -82,7 +82,7 @@ torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tenso
     const torch::Tensor scale = norm->gamma * torch::rsqrt(norm->running_var + norm->eps);
     y = ScaleShiftTanh(y, scale, norm->beta - norm->running_mean * scale);
   } else {
-    y = FastTanh(norm->forward(conv->forward(x, z)));
+    y = FusedTanh(norm->forward(conv->forward(x, z)));
   }
   if (dropout > 0 && is_training()) y = torch::dropout(y, dropout, /*train=*/true);
   return y;

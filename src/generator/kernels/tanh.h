@@ -1,11 +1,12 @@
-// Vectorised tanh kernels (Eigen's rational approximation, within 3e-7 of std::tanh), dispatched
-// at run time to an AVX2/FMA build when the CPU has it. Debian's LibTorch evaluates tanh about
+// The one tanh of the generator (LibTorch paths, fused autograd ops and fused inference alike):
+// tanh(x) = 1 - 2 / (exp(2x) + 1) with exp by a degree-5 polynomial, within 3e-7 of std::tanh,
+// NaN kept (backends: tanh_avx512.inc, tanh_portable.cc). Debian's LibTorch evaluates tanh about
 // five times slower, and the generator applies it to every hidden feature of every layer.
 #pragma once
 
 #include <cstdint>
 
-namespace motionfork::fast {
+namespace motionfork::kernels {
 
 // x[i] = tanh(x[i]) for i < n.
 void Tanh(float* x, int64_t n);
@@ -16,4 +17,4 @@ void Tanh(float* x, int64_t n);
 void ScaleShiftTanh(float* x, const float* scale, const float* shift, int64_t rows,
                     int64_t rows_per_group, int64_t width);
 
-}  // namespace motionfork::fast
+}  // namespace motionfork::kernels

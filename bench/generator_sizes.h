@@ -1,0 +1,30 @@
+// GSPS's Human3.6M generator sizes, shared by the generator benchmarks: t_his 25, t_pred 100,
+// n_pre 10, hidden 256, 4 residual blocks, nz 64, and 16 nodes unless told (17 joints less the
+// root).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "config/generator_options.h"
+
+namespace motionfork::bench {
+
+inline GeneratorOptions H36mGeneratorOptions(int64_t nodes = 16) {
+  GeneratorOptions o;
+  o.num_nodes = nodes;
+  o.t_his = 25;
+  o.t_pred = 100;
+  o.n_pre = 10;
+  o.hidden = 256;
+  o.blocks = 4;
+  o.nz = 64;
+  return o;
+}
+
+// Two parts of the 16 nodes (the first six, the other ten), as bench_generator has always run.
+inline std::vector<std::vector<int64_t>> TwoParts16() {
+  return {{0, 1, 2, 3, 4, 5}, {6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
+}
+
+}  // namespace motionfork::bench
