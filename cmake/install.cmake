@@ -8,31 +8,7 @@
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
-# The motionfork libraries `target` links, transitively (PRIVATE ones too: static libraries pass
-# them on to whoever links them), and the external link items met on the way.
-function(motionfork_link_closure target out_targets out_external)
-  set(todo ${target})
-  set(seen "")
-  set(external "")
-  while(todo)
-    list(POP_FRONT todo t)
-    if(t IN_LIST seen)
-      continue()
-    endif()
-    list(APPEND seen ${t})
-    get_target_property(libs ${t} LINK_LIBRARIES)
-    foreach(lib IN LISTS libs)
-      if(lib MATCHES "^motionfork_")
-        list(APPEND todo ${lib})
-      elseif(lib AND NOT lib MATCHES "^(/|-|\\$<)")  # not a file path, flag or expression
-        list(APPEND external ${lib})
-      endif()
-    endforeach()
-  endwhile()
-  list(REMOVE_DUPLICATES external)
-  set(${out_targets} ${seen} PARENT_SCOPE)
-  set(${out_external} ${external} PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/link_closure.cmake)
 
 motionfork_link_closure(motionfork_api MOTIONFORK_EXPORTED_TARGETS MOTIONFORK_EXTERNAL_TARGETS)
 

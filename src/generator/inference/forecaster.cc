@@ -9,6 +9,7 @@
 #include "config/constraint_config.h"
 #include "generator/inference/fused_generator.h"
 #include "generator/inference/pose_repair.h"
+#include "generator/kernels/backend.h"
 #include "generator/model/bundle.h"
 #include "generator/model/latents.h"
 
@@ -19,9 +20,11 @@ struct Forecaster::Impl {
   std::shared_ptr<const Skeleton> skeleton;
   PartPlan parts;
   GeneratorNet net{nullptr};
-  // The fused inference path (every CPU; MOTIONFORK_FAST_GENERATOR=0 turns it off and runs `net`):
-  // the same futures as `net` up to float rounding, 1.2-1.6x faster with the AVX-512 kernels
-  // (bench_generator, BENCHMARKS.md).
+  // The fused inference path: the same futures as `net` up to float rounding, 1.2-1.6x faster
+  // with the AVX-512 kernels (bench_generator, BENCHMARKS.md). Used where the AVX-512 backend
+  // runs; on other CPUs its portable backend is 3-4x slower than `net` (bench_generator,
+  // 2026-12-02), so `net` runs there. MOTIONFORK_FAST_GENERATOR=0 turns it off, =1 on whatever the
+  // backend.
   std::unique_ptr<FusedGenerator> fused;
   std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
 };
@@ -35,7 +38,8 @@ Forecaster Forecaster::Load(const std::string& bundle_dir) {
   auto impl = std::make_unique<Impl>();
   impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
   const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
-  if (!(fast_env && std::string(fast_env) == "0")) {
+  const std::string fast = fast_env ? fast_env : "";
+  if (fast == "1" || (fast != "0" && kernels::ActiveBackend() == kernels::Backend::kAvx512)) {
     impl->fused = std::make_unique<FusedGenerator>(*impl->net);
   }
   impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));
