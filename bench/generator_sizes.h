@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "config/generator_options.h"
+#include "generator/model/generator_options.h"
 
 namespace motionfork::bench {
 

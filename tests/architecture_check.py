@@ -20,6 +20,7 @@ FORBIDDEN = {
     "motionfork_flow": ["motionfork_config", "motionfork_bundle"],
     "motionfork_imputation": ["motionfork_config", "motionfork_bundle"],
     "motionfork_denoise": ["motionfork_config", "motionfork_bundle"],
+    "motionfork_generator_model": ["motionfork_config", "motionfork_bundle"],
     # The data modules below the config layer do not read YAML.
     "motionfork_core": ["motionfork_config"],
     "motionfork_io": ["motionfork_config"],
@@ -29,8 +30,10 @@ FORBIDDEN = {
     "motionfork_config": ["motionfork_flow", "motionfork_imputation", "motionfork_denoise",
                           "motionfork_generator_model", "motionfork_generator_inference",
                           "motionfork_bundle"],
-    # Inference does not depend on evaluation or training.
-    "motionfork_generator_inference": ["motionfork_eval", "motionfork_generator_training"],
+    # Inference does not depend on evaluation or training, and takes options structs (its bundles
+    # load through the bundle layer).
+    "motionfork_generator_inference": ["motionfork_eval", "motionfork_generator_training",
+                                       "motionfork_config", "motionfork_bundle"],
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)

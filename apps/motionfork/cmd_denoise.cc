@@ -8,6 +8,7 @@
 
 #include "app_common.h"
 #include "bundle/dvae_bundle.h"
+#include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
@@ -285,7 +286,7 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
   // Downstream: forecasting from noisy vs denoised histories. Each history is denoised with the
   // window() frames that end with it (no future frame is seen).
   if (!o.forecaster.empty()) {
-    const Forecaster fc = Forecaster::Load(o.forecaster);
+    const Forecaster fc = LoadForecaster(o.forecaster);
     if (fc.config().generator.t_his != protocol.t_his ||
         fc.skeleton()->joint_names() != model.skeleton().joint_names()) {
       throw std::invalid_argument(o.forecaster + ": the forecaster's history (" +

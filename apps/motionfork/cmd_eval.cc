@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app_common.h"
+#include "bundle/generator_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
@@ -163,7 +164,7 @@ std::unique_ptr<Predictor> MakePredictor(const EvalCommandOptions& o, const Prot
                                          const std::shared_ptr<const Skeleton>& skeleton,
                                          const std::vector<const Motion*>& training) {
   if (!o.model.empty()) {
-    Forecaster f = Forecaster::Load(o.model);
+    Forecaster f = LoadForecaster(o.model);
     const ModelConfig& mc = f.config();
     if (!f.skeleton()->SameStructure(*skeleton) || mc.generator.t_his != p.t_his ||
         mc.generator.t_pred != p.t_pred) {
@@ -216,7 +217,7 @@ void RunEval(const EvalCommandOptions& o, GlobalOptions& g) {
     throw std::invalid_argument("give --data DIR (the protocol's dataset) and/or --clips DIR");
   }
   // Fail before loading anything.
-  if (!o.model.empty()) Forecaster::Load(o.model);
+  if (!o.model.empty()) LoadForecaster(o.model);
   if (!o.baseline.empty() && CanonicalBaseline(o.baseline) == "nearest-neighbours" &&
       o.data.empty()) {
     throw std::invalid_argument(

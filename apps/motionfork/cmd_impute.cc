@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
+#include "bundle/generator_bundle.h"
 #include "bundle/hgvae_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
@@ -364,7 +365,7 @@ void RunEval(const EvalCmd& o, const GlobalOptions& g) {
 
   // Downstream forecasting from clean, mean-imputed and imputed histories.
   if (!o.forecaster.empty()) {
-    const Forecaster fc = Forecaster::Load(o.forecaster);
+    const Forecaster fc = LoadForecaster(o.forecaster);
     if (fc.config().generator.t_his != T) {
       throw std::invalid_argument("the forecaster's history is " +
                                   std::to_string(fc.config().generator.t_his) +

@@ -4,14 +4,13 @@
 #include <memory>
 
 #include "app_common.h"
+#include "bundle/generator_bundle.h"
 #include "bundle/prior_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
-#include "config/model_config.h"
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
-#include "config/training_options.h"
 #include "constraints/torch/angle_penalty.h"
 #include "core/error.h"
 #include "dataset/dataset.h"

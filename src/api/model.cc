@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
 #include "config/skeleton_config.h"
@@ -155,7 +156,7 @@ Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
                                 std::to_string(options.threads));
   }
   if (options.threads > 0) PinThreads(options.threads);
-  auto impl = std::make_unique<Impl>(Forecaster::Load(bundle_dir), bundle_dir);
+  auto impl = std::make_unique<Impl>(LoadForecaster(bundle_dir), bundle_dir);
   const Skeleton& skeleton = impl->skeleton();
   const PartPlan& plan = impl->forecaster.parts();
   for (int p = 0; p < plan.num_parts(); ++p) {

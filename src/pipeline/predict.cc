@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "bundle/dvae_bundle.h"
+#include "bundle/generator_bundle.h"
 #include "bundle/hgvae_bundle.h"
 #include "core/error.h"
 #include "denoise/dvae_model.h"
@@ -118,7 +119,7 @@ Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
 }
 
 Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
-  const Forecaster model = Forecaster::Load(files.model_dir);
+  const Forecaster model = LoadForecaster(files.model_dir);
   const ModelConfig& mc = model.config();
   if (files.imputer_dir.empty() && !files.masks.empty())
     throw FormatError("--mask needs --impute (an HG-VAE bundle to fill the values)");

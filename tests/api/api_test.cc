@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
 #include "config/skeleton_config.h"
@@ -106,7 +107,7 @@ TEST_CASE("Model::Predict gives k futures of future_frames frames, as the Foreca
   CHECK(f.sample(2) == f.positions.data() + 2 * 10 * 17 * 3);
 
   // The history's last 5 frames, through the Forecaster directly.
-  const Forecaster forecaster = Forecaster::Load(Bundle());
+  const Forecaster forecaster = LoadForecaster(Bundle());
   const Motion history(forecaster.skeleton(), 30.0, History());
   ForecastRequest request;
   request.k = 6;

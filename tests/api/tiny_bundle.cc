@@ -1,10 +1,9 @@
 #include "tiny_bundle.h"
 
 #include "bodyparts/part_plan.h"
+#include "bundle/generator_net_bundle.h"
 #include "config/config_paths.h"
-#include "config/model_config.h"
 #include "config/skeleton_config.h"
-#include "generator/model/bundle.h"
 #include "test_support.h"
 
 namespace motionfork::testing {

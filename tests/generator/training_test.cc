@@ -4,8 +4,7 @@
 #include <filesystem>
 
 #include "bodyparts/part_plan.h"
-#include "config/model_config.h"
-#include "config/training_options.h"
+#include "bundle/generator_bundle.h"
 #include "core/joint_selection.h"
 #include "generator/inference/forecaster.h"
 #include "test_support.h"
@@ -105,7 +104,7 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
   CHECK(std::filesystem::exists(out.path() / "log.csv"));
 
   // Bundle -> Forecaster: shapes, determinism, control, errors.
-  const Forecaster f = Forecaster::Load(out.path().string());
+  const Forecaster f = LoadForecaster(out.path().string());
   const Motion history = ds.clips[3].motion;  // a test clip
   ForecastRequest req;
   req.k = 6;
@@ -158,7 +157,7 @@ TEST_CASE("a fixed later part keeps its own joints when earlier parts are the sa
   cfg.training.lr_constant_epochs = 1;
   const TrainingWindows data = BuildTrainingWindows(ds, 3, cfg.multimodal, "");
   TrainGenerator(cfg, ModelFor(ds, cfg), data, out.path().string(), {}, {});
-  const Forecaster f = Forecaster::Load(out.path().string());
+  const Forecaster f = LoadForecaster(out.path().string());
   ForecastRequest req;
   req.k = 4;
   req.fixed_parts = {"legs", "upper"};
@@ -171,7 +170,7 @@ TEST_CASE("a fixed later part keeps its own joints when earlier parts are the sa
 
 TEST_CASE("bundles with missing or foreign files get clear errors") {
   testing::TempDir out;
-  CHECK_THROWS_WITH(Forecaster::Load((out.path() / "nope").string()), Catch::Contains("not found"));
+  CHECK_THROWS_WITH(LoadForecaster((out.path() / "nope").string()), Catch::Contains("not found"));
   std::filesystem::create_directories(out.path() / "b");
-  CHECK_THROWS_WITH(Forecaster::Load((out.path() / "b").string()), Catch::Contains("model.yaml"));
+  CHECK_THROWS_WITH(LoadForecaster((out.path() / "b").string()), Catch::Contains("model.yaml"));
 }

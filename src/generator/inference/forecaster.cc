@@ -3,14 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <stdexcept>
 
-#include "config/constraint_config.h"
 #include "generator/inference/fused_generator.h"
 #include "generator/inference/pose_repair.h"
 #include "generator/kernels/backend.h"
-#include "generator/model/bundle.h"
+#include "generator/model/generator_net.h"
 #include "generator/model/latents.h"
 
 namespace motionfork {
@@ -26,31 +24,32 @@ struct Forecaster::Impl {
   // 2026-12-02), so `net` runs there. MOTIONFORK_FAST_GENERATOR=0 turns it off, =1 on whatever the
   // backend.
   std::unique_ptr<FusedGenerator> fused;
-  std::unique_ptr<PoseRepair> repair;  // when the bundle carries constraints.yaml
+  std::unique_ptr<PoseRepair> repair;  // when constructed with constraints
 };
 
-Forecaster::Forecaster(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-Forecaster::~Forecaster() = default;
-Forecaster::Forecaster(Forecaster&&) noexcept = default;
-Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
-
-Forecaster Forecaster::Load(const std::string& bundle_dir) {
-  auto impl = std::make_unique<Impl>();
-  impl->net = LoadGeneratorBundle(bundle_dir, &impl->config);
+Forecaster::Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net,
+                       std::optional<ConstraintSetSpec> constraints)
+    : impl_(std::make_unique<Impl>()) {
+  if (!net) throw std::invalid_argument("Forecaster: expected a network, got none");
+  Impl& impl = *impl_;
+  impl.config = std::move(config);
+  impl.net = GeneratorNet(std::move(net));
+  impl.net->eval();
   const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
   const std::string fast = fast_env ? fast_env : "";
   if (fast == "1" || (fast != "0" && kernels::ActiveBackend() == kernels::Backend::kAvx512)) {
-    impl->fused = std::make_unique<FusedGenerator>(*impl->net);
+    impl.fused = std::make_unique<FusedGenerator>(*impl.net);
   }
-  impl->skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl->config.skeleton));
-  impl->parts = MakePartPlan(*impl->skeleton, impl->config.generator.partition);
-  const std::filesystem::path constraints = std::filesystem::path(bundle_dir) / "constraints.yaml";
-  if (std::filesystem::is_regular_file(constraints)) {
-    impl->repair = std::make_unique<PoseRepair>(LoadConstraintConfig(constraints.string()),
-                                                *impl->skeleton, impl->parts);
+  impl.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl.config.skeleton));
+  impl.parts = MakePartPlan(*impl.skeleton, impl.config.generator.partition);
+  if (constraints) {
+    impl.repair = std::make_unique<PoseRepair>(*constraints, *impl.skeleton, impl.parts);
   }
-  return Forecaster(std::move(impl));
 }
+
+Forecaster::~Forecaster() = default;
+Forecaster::Forecaster(Forecaster&&) noexcept = default;
+Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
 
 const ModelConfig& Forecaster::config() const { return impl_->config; }
 const std::shared_ptr<const Skeleton>& Forecaster::skeleton() const { return impl_->skeleton; }

@@ -1,28 +1,30 @@
-// Forecaster: a saved generator bundle, loaded, turning histories into K futures. No LibTorch in
-// this header: apps, the evaluation and embedding programs use it as plain C++.
-//
-// Bundle (a folder): model.yaml (protocol, sizes, skeleton with parts; see config/model_config.h)
-// and generator.pt (LibTorch weights and batch-norm statistics); optionally constraints.yaml (the
-// angle ranges predictions are repaired to) and prior/ (the pose prior, for validity figures).
+// Forecaster: a generator network turning histories into K futures. No LibTorch in this header:
+// apps, the evaluation and embedding programs use it as plain C++. A saved bundle (model.yaml,
+// generator.pt, optionally constraints.yaml) loads as one through LoadForecaster
+// (bundle/generator_bundle.h).
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bodyparts/part_plan.h"
-#include "config/model_config.h"
+#include "constraints/constraint_spec.h"
 #include "core/motion.h"
+#include "generator/model/generator_options.h"
 
 namespace motionfork {
+
+class GeneratorNetImpl;  // generator/model/generator_net.h (LibTorch)
 
 struct ForecastRequest {
   int k = 50;                            // futures per history
   uint64_t seed = 0;                     // same seed, same futures
   std::vector<std::string> fixed_parts;  // parts whose latent is shared by all K futures
-  // Move predicted poses that break the bundle's angle ranges (constraints.yaml, when it has one)
-  // back inside them, as little as it takes (generator/pose_repair.h). false: the raw network
+  // Move predicted poses that break the angle ranges (the bundle's constraints.yaml, when it has
+  // one) back inside them, as little as it takes (generator/pose_repair.h). false: the raw network
   // output.
   bool repair = true;
 };
@@ -38,10 +40,15 @@ struct Forecast {
 
 class Forecaster {
  public:
-  // Throws FormatError naming the missing or malformed file. Predictions run the fused generator
-  // (inference/fused_generator.h, any CPU); with $MOTIONFORK_FAST_GENERATOR=0 at load time they
-  // run the LibTorch network instead (for comparisons; same futures within 1e-5 m).
-  static Forecaster Load(const std::string& bundle_dir);
+  // config: what the network is (sizes, skeleton with its parts, frame rate); net: the network
+  // (put in eval mode); constraints: the angle ranges predictions are repaired to (none: no
+  // repair). Predictions run the fused generator (inference/fused_generator.h) where the AVX-512
+  // backend runs; with $MOTIONFORK_FAST_GENERATOR=0 at construction they run the LibTorch network
+  // instead (=1: the fused generator on any backend; same futures within 1e-5 m). Throws
+  // std::invalid_argument for a null net and what Skeleton::Build, MakePartPlan and
+  // ConstraintSet::Build throw.
+  Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net,
+             std::optional<ConstraintSetSpec> constraints = std::nullopt);
   ~Forecaster();
   Forecaster(Forecaster&&) noexcept;
   Forecaster& operator=(Forecaster&&) noexcept;
@@ -49,7 +56,8 @@ class Forecaster {
   const ModelConfig& config() const;
   const std::shared_ptr<const Skeleton>& skeleton() const;
   const PartPlan& parts() const;
-  // True when the bundle carries constraints.yaml, so predictions can be repaired to its ranges.
+  // True when constructed with constraints (a bundle's constraints.yaml), so predictions can be
+  // repaired to their ranges.
   bool repairs() const;
 
   // history: the model's skeleton (same joint names and parents) at the model's frame rate, at
@@ -67,11 +75,9 @@ class Forecaster {
   // (Predict, the evaluation's Predictor) have done them.
   std::vector<float> PredictWorld(const float* history, const ForecastRequest& request) const;
 
-  // Saves a bundle (model.yaml + generator.pt) from a trained network; used by training.
   struct Impl;
 
  private:
-  explicit Forecaster(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

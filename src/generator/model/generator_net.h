@@ -9,8 +9,8 @@
 
 #include <vector>
 
-#include "config/generator_options.h"
 #include "generator/model/gcn.h"
+#include "generator/model/generator_options.h"
 
 namespace motionfork {
 

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "config/training_options.h"
+#include "generator/model/training_options.h"
 
 namespace motionfork {
 

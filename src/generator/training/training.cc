@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "bodyparts/part_plan.h"
-#include "generator/model/bundle.h"
+#include "bundle/generator_net_bundle.h"
 #include "generator/model/latents.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"

@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "config/model_config.h"
-#include "config/training_options.h"
+#include "generator/model/generator_options.h"
+#include "generator/model/training_options.h"
 #include "generator/training/losses.h"
 #include "generator/training/training_data.h"
 

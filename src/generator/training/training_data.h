@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "config/training_options.h"
 #include "dataset/dataset.h"
 #include "dataset/windows.h"
+#include "generator/model/training_options.h"
 
 namespace motionfork {
 

@@ -1,7 +1,12 @@
-// Sizes of the GSPS-style generator. No LibTorch here: configs, apps and bundles read this.
+// Generator settings: the network's sizes (GeneratorOptions) and what a saved generator is
+// (ModelConfig, a bundle's model.yaml). Plain structs, no LibTorch and no YAML: the bundle layer
+// (bundle/generator_bundle.h) reads and writes them; configs, apps and the API read them.
 #pragma once
 
+#include <map>
 #include <string>
+
+#include "core/skeleton.h"
 
 namespace motionfork {
 
@@ -23,5 +28,18 @@ struct GeneratorOptions {
 
 // Throws std::invalid_argument naming the field, its value and the rule.
 void ValidateGeneratorOptions(const GeneratorOptions& o);
+
+constexpr const char* kGeneratorBundleFormat = "motionfork-generator-1";
+
+// A bundle's model.yaml: protocol settings, network sizes, skeleton with its parts, so that a
+// bundle describes itself.
+struct ModelConfig {
+  std::string format = kGeneratorBundleFormat;
+  std::string protocol;                     // protocol name the model was trained under
+  double fps = 0;                           // Hz
+  GeneratorOptions generator;               // includes t_his, t_pred, num_nodes, partition
+  SkeletonSpec skeleton;                    // the protocol skeleton, parts as joint lists
+  std::map<std::string, std::string> info;  // free-form provenance (command, seed, epochs, ...)
+};
 
 }  // namespace motionfork

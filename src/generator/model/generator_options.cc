@@ -1,4 +1,4 @@
-#include "config/generator_options.h"
+#include "generator/model/generator_options.h"
 
 #include <stdexcept>
 #include <string>

@@ -1,11 +1,14 @@
-// Generator training settings (configs/models/*.yaml, section `training` and `losses`).
+// Generator training settings (configs/models/*.yaml, sections `generator`, `losses`,
+// `multimodal` and `training`). Plain structs, no YAML: bundle/generator_bundle.h reads them. They
+// sit with the model, not in generator/training, because the bundle layer reads them and the
+// training target links the bundle layer (it writes bundles), as imputation/hgvae_options.h does.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
-#include "config/generator_options.h"
+#include "generator/model/generator_options.h"
 
 namespace motionfork {
 
@@ -51,8 +54,5 @@ struct GeneratorTrainConfig {
   MultimodalOptions multimodal;
   TrainingOptions training;
 };
-
-// Throws FormatError naming the file, line and key.
-GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path);
 
 }  // namespace motionfork

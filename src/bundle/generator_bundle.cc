@@ -1,0 +1,223 @@
+#include "bundle/generator_bundle.h"
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+
+#include "bodyparts/part_plan.h"
+#include "bundle/generator_net_bundle.h"
+#include "bundle/manifest.h"
+#include "bundle/torch_bundle.h"
+#include "config/constraint_config.h"
+#include "config/skeleton_yaml.h"
+#include "config/yaml_util.h"
+#include "core/error.h"
+
+namespace motionfork {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using yaml_util::Fail;
+using yaml_util::Get;
+using yaml_util::GetOr;
+
+template <typename T>
+std::vector<T> List(const std::string& path, const YAML::Node& map, const std::string& key,
+                    std::vector<T> fallback) {
+  const YAML::Node n = map[key];
+  if (!n) return fallback;
+  if (!n.IsSequence()) Fail(path, n, "'" + key + "' must be a list");
+  std::vector<T> out;
+  for (const YAML::Node& e : n) out.push_back(e.as<T>());
+  return out;
+}
+
+void CheckTrainConfig(const GeneratorTrainConfig& c) {
+  const TrainingOptions& t = c.training;
+  const size_t parts = t.samples_per_part.size();
+  auto rule = [&](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument(what);
+  };
+  rule(parts >= 1, "training.samples_per_part needs one count per body part");
+  for (int64_t n : t.samples_per_part)
+    rule(n >= 1, "training.samples_per_part entries must be >= 1");
+  rule(c.losses.diversity.size() == parts && c.losses.diversity_scale.size() == parts,
+       "losses.diversity and losses.diversity_scale need one value per body part (" +
+           std::to_string(parts) + ", as training.samples_per_part)");
+  rule(t.batch_histories >= 1, "training.batch_histories must be >= 1");
+  rule(t.epochs >= 1, "training.epochs must be >= 1");
+  rule(t.windows_per_epoch >= t.batch_histories,
+       "training.windows_per_epoch must be >= batch_histories");
+  rule(t.lr_constant_epochs >= 0 && t.lr_constant_epochs <= t.epochs,
+       "training.lr_constant_epochs must be in 0..epochs");
+  rule(t.learning_rate > 0, "training.learning_rate must be > 0");
+  rule(t.grad_clip > 0, "training.grad_clip must be > 0");
+  rule(t.window_stride >= 1, "training.window_stride must be >= 1");
+  rule(t.prior_frame_step >= 1, "training.prior_frame_step must be >= 1");
+  rule(t.threads >= 1, "training.threads must be >= 1");
+  rule(c.multimodal.max_per_window >= 0, "multimodal.max_per_window must be >= 0");
+}
+
+}  // namespace
+
+GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
+  const YAML::Node root = yaml_util::LoadFile(path);
+  return WithManifestErrors(path, [&] {
+    GeneratorTrainConfig c;
+    c.path = path;
+    c.name = Get<std::string>(path, root, "name");
+    c.protocol = Get<std::string>(path, root, "protocol");
+    c.prior = GetOr<std::string>(path, root, "prior", "");
+    c.constraints = GetOr<std::string>(path, root, "constraints", "");
+    if (const YAML::Node g = root["generator"]) {
+      GeneratorOptions& o = c.generator;
+      o.n_pre = GetOr<int>(path, g, "n_pre", o.n_pre);
+      o.hidden = GetOr<int>(path, g, "hidden", o.hidden);
+      o.blocks = GetOr<int>(path, g, "blocks", o.blocks);
+      o.nz = GetOr<int>(path, g, "nz", o.nz);
+      o.batch_norm = GetOr<bool>(path, g, "batch_norm", o.batch_norm);
+      o.dropout = GetOr<double>(path, g, "dropout", o.dropout);
+      o.partition = GetOr<std::string>(path, g, "partition", o.partition);
+    }
+    if (const YAML::Node l = root["losses"]) {
+      LossWeights& w = c.losses;
+      w.past_reconstruction = GetOr<double>(path, l, "past_reconstruction", w.past_reconstruction);
+      w.limb_length = GetOr<double>(path, l, "limb_length", w.limb_length);
+      w.diversity = List<double>(path, l, "diversity", {8, 25});
+      w.diversity_scale = List<double>(path, l, "diversity_scale", {100, 300});
+      w.best_of_many = GetOr<double>(path, l, "best_of_many", w.best_of_many);
+      w.multimodal = GetOr<double>(path, l, "multimodal", w.multimodal);
+      w.prior_nll = GetOr<double>(path, l, "prior_nll", w.prior_nll);
+      w.angle = GetOr<double>(path, l, "angle", w.angle);
+    } else {
+      c.losses.diversity = {8, 25};
+      c.losses.diversity_scale = {100, 300};
+    }
+    if (const YAML::Node m = root["multimodal"]) {
+      MultimodalOptions& o = c.multimodal;
+      o.last_pose_threshold = GetOr<double>(path, m, "last_pose_threshold", o.last_pose_threshold);
+      o.future_min_distance = GetOr<double>(path, m, "future_min_distance", o.future_min_distance);
+      o.max_per_window = GetOr<int>(path, m, "max_per_window", o.max_per_window);
+    }
+    TrainingOptions& t = c.training;
+    t.samples_per_part = {10, 10};
+    if (const YAML::Node n = root["training"]) {
+      t.samples_per_part = List<int64_t>(path, n, "samples_per_part", t.samples_per_part);
+      t.batch_histories = GetOr<int>(path, n, "batch_histories", t.batch_histories);
+      t.epochs = GetOr<int>(path, n, "epochs", t.epochs);
+      t.windows_per_epoch = GetOr<int>(path, n, "windows_per_epoch", t.windows_per_epoch);
+      t.lr_constant_epochs = GetOr<int>(path, n, "lr_constant_epochs", t.lr_constant_epochs);
+      t.learning_rate = GetOr<double>(path, n, "learning_rate", t.learning_rate);
+      t.grad_clip = GetOr<double>(path, n, "grad_clip", t.grad_clip);
+      t.window_stride = GetOr<int>(path, n, "window_stride", t.window_stride);
+      t.prior_frame_step = GetOr<int>(path, n, "prior_frame_step", t.prior_frame_step);
+      t.seed = GetOr<uint64_t>(path, n, "seed", t.seed);
+      t.threads = GetOr<int>(path, n, "threads", t.threads);
+    }
+    CheckTrainConfig(c);
+    return c;
+  });
+}
+
+ModelConfig LoadGeneratorManifest(const std::string& path, BundleChecksums* checksums) {
+  const YAML::Node root = LoadManifestFile(path);
+  return WithManifestErrors(path, [&] {
+    ModelConfig c;
+    ManifestHeader h = ParseManifestHeader(path, root, kGeneratorBundleFormat,
+                                           {/*protocol=*/true,
+                                            /*skeleton=*/false});
+    c.format = h.format;
+    c.protocol = h.protocol;
+    c.fps = h.fps;
+    if (checksums) *checksums = std::move(h.checksums);
+    const YAML::Node p = root["protocol"];
+    GeneratorOptions& g = c.generator;
+    g.t_his = Get<int>(path, p, "t_his");
+    g.t_pred = Get<int>(path, p, "t_pred");
+    const YAML::Node n = root["generator"];
+    if (!n) Fail(path, root, "missing mapping 'generator'");
+    g.num_nodes = Get<int>(path, n, "num_nodes");
+    g.n_pre = Get<int>(path, n, "n_pre");
+    g.hidden = Get<int>(path, n, "hidden");
+    g.blocks = Get<int>(path, n, "blocks");
+    g.nz = Get<int>(path, n, "nz");
+    g.batch_norm = Get<bool>(path, n, "batch_norm");
+    g.dropout = GetOr<double>(path, n, "dropout", 0.0);
+    g.partition = Get<std::string>(path, n, "partition");
+    ValidateGeneratorOptions(g);
+    c.skeleton = ParseSkeletonSpec(path, root);
+    for (auto& [k, v] : ParseManifestInfo(root)) c.info[k] = std::move(v);
+    return c;
+  });
+}
+
+std::string FormatGeneratorManifest(const ModelConfig& c, const BundleChecksums& checksums) {
+  YAML::Emitter out;
+  out << YAML::BeginMap;
+  EmitManifestFormat(out, {c.format, c.protocol, c.fps, {}, {}}, /*open_protocol=*/true);
+  out << YAML::Key << "t_his" << YAML::Value << c.generator.t_his;
+  out << YAML::Key << "t_pred" << YAML::Value << c.generator.t_pred;
+  out << YAML::EndMap;
+  const GeneratorOptions& g = c.generator;
+  out << YAML::Key << "generator" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "num_nodes" << YAML::Value << g.num_nodes;
+  out << YAML::Key << "n_pre" << YAML::Value << g.n_pre;
+  out << YAML::Key << "hidden" << YAML::Value << g.hidden;
+  out << YAML::Key << "blocks" << YAML::Value << g.blocks;
+  out << YAML::Key << "nz" << YAML::Value << g.nz;
+  out << YAML::Key << "batch_norm" << YAML::Value << g.batch_norm;
+  out << YAML::Key << "dropout" << YAML::Value << g.dropout;
+  out << YAML::Key << "partition" << YAML::Value << g.partition;
+  out << YAML::EndMap;
+  EmitSkeletonSpec(out, c.skeleton);
+  EmitManifestChecksums(out, checksums);
+  EmitManifestInfo(out, {c.info.begin(), c.info.end()});
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+void SaveGeneratorBundle(const std::string& dir, const ModelConfig& config, GeneratorNet& net) {
+  WriteBundle(
+      dir, {{"generator.pt", WeightBytes(net)}}, "model.yaml",
+      [&config](const BundleChecksums& sums) { return FormatGeneratorManifest(config, sums); });
+}
+
+GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config) {
+  const std::string yaml = (fs::path(dir) / "model.yaml").string();
+  return LoadTorchBundle<ModelConfig, GeneratorNet>(
+      dir, "model", "model.yaml", "generator.pt", config,
+      [](const std::string& path, BundleChecksums* sums) {
+        return LoadGeneratorManifest(path, sums);
+      },
+      [&yaml](const ModelConfig& m) {
+        std::optional<Skeleton> built;
+        try {
+          built = Skeleton::Build(m.skeleton);
+        } catch (const std::invalid_argument& e) {
+          throw FormatError(FormatMessage(yaml, "", e.what()));
+        }
+        const Skeleton& skeleton = *built;
+        if (skeleton.num_joints() - 1 != m.generator.num_nodes) {
+          throw FormatError(
+              FormatMessage(yaml, "",
+                            "generator.num_nodes = " + std::to_string(m.generator.num_nodes) +
+                                " does not match the skeleton's " +
+                                std::to_string(skeleton.num_joints() - 1) + " non-root joints"));
+        }
+        const PartPlan plan = MakePartPlan(skeleton, m.generator.partition);
+        return GeneratorNet(m.generator, plan.nodes);
+      });
+}
+
+Forecaster LoadForecaster(const std::string& dir) {
+  ModelConfig config;
+  GeneratorNet net = LoadGeneratorBundle(dir, &config);
+  std::optional<ConstraintSetSpec> constraints;
+  const fs::path file = fs::path(dir) / "constraints.yaml";
+  if (fs::is_regular_file(file)) constraints = LoadConstraintConfig(file.string());
+  return Forecaster(std::move(config), net.ptr(), std::move(constraints));
+}
+
+}  // namespace motionfork
