@@ -4,21 +4,18 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/enum_names.h"
+
 namespace motionfork {
 
-const char* ToString(AngleStatus status) {
-  switch (status) {
-    case AngleStatus::kInside:
-      return "inside";
-    case AngleStatus::kBelow:
-      return "below";
-    case AngleStatus::kAbove:
-      return "above";
-    case AngleStatus::kDegenerate:
-      return "degenerate";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<AngleStatus> kAngleStatusNames[] = {{AngleStatus::kInside, "inside"},
+                                                       {AngleStatus::kBelow, "below"},
+                                                       {AngleStatus::kAbove, "above"},
+                                                       {AngleStatus::kDegenerate, "degenerate"}};
+}  // namespace
+
+const char* ToString(AngleStatus status) { return NameOf(status, kAngleStatusNames); }
 
 void Validate(const DegeneracyOptions& o) {
   if (!(o.min_bone_length >= 0) || !std::isfinite(o.min_bone_length)) {

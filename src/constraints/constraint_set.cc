@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "core/enum_names.h"
 #include "core/error.h"
 
 namespace motionfork {
@@ -88,15 +89,9 @@ class Compiler {
 }  // namespace
 
 const char* ToString(Side side) {
-  switch (side) {
-    case Side::kNone:
-      return "none";
-    case Side::kLeft:
-      return "left";
-    case Side::kRight:
-      return "right";
-  }
-  return "?";
+  static constexpr EnumName<Side> kNames[] = {
+      {Side::kNone, "none"}, {Side::kLeft, "left"}, {Side::kRight, "right"}};
+  return NameOf(side, kNames);
 }
 
 std::string ToString(const VectorExpr& e) {

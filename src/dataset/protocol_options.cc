@@ -3,22 +3,22 @@
 #include <regex>
 #include <stdexcept>
 
+#include "core/enum_names.h"
+
 namespace motionfork {
 
 const char* ToString(SourceFormat format) {
-  return format == SourceFormat::kBvh ? "bvh" : "videopose3d";
+  static constexpr EnumName<SourceFormat> kNames[] = {{SourceFormat::kBvh, "bvh"},
+                                                      {SourceFormat::kVideoPose3d, "videopose3d"}};
+  return NameOf(format, kNames);
 }
 
 const char* ToString(RootHandling root) {
-  switch (root) {
-    case RootHandling::kRelativeDrop:
-      return "relative_drop";
-    case RootHandling::kRelative:
-      return "relative";
-    case RootHandling::kAbsolute:
-      return "absolute";
-  }
-  return "?";
+  static constexpr EnumName<RootHandling> kNames[] = {
+      {RootHandling::kRelativeDrop, "relative_drop"},
+      {RootHandling::kRelative, "relative"},
+      {RootHandling::kAbsolute, "absolute"}};
+  return NameOf(root, kNames);
 }
 
 void ValidateProtocol(const ProtocolOptions& o) {

@@ -2,17 +2,20 @@
 
 #include <stdexcept>
 
+#include "core/enum_names.h"
+
 namespace motionfork {
 
-const char* ToString(DenoiseMode mode) {
-  return mode == DenoiseMode::kRegression ? "regression" : "optimisation";
-}
+namespace {
+constexpr EnumName<DenoiseMode> kModeNames[] = {{DenoiseMode::kRegression, "regression"},
+                                                {DenoiseMode::kOptimisation, "optimisation"}};
+}  // namespace
+
+const char* ToString(DenoiseMode mode) { return NameOf(mode, kModeNames); }
 
 DenoiseMode ParseDenoiseMode(const std::string& text) {
-  if (text == "regression") return DenoiseMode::kRegression;
-  if (text == "optimisation" || text == "optimization") return DenoiseMode::kOptimisation;
-  throw std::invalid_argument("denoise mode: expected 'regression' or 'optimisation', got '" +
-                              text + "'");
+  if (text == "optimization") return DenoiseMode::kOptimisation;  // the US spelling, not listed
+  return ParseEnumName(text, kModeNames, "denoise mode");
 }
 
 void ValidateDvaeOptions(const DvaeOptions& o) {

@@ -2,17 +2,19 @@
 
 #include <stdexcept>
 
+#include "core/enum_names.h"
+
 namespace motionfork {
 
-const char* ToString(ImputeObjective objective) {
-  return objective == ImputeObjective::kPosterior ? "posterior" : "joint";
-}
+namespace {
+constexpr EnumName<ImputeObjective> kObjectiveNames[] = {{ImputeObjective::kPosterior, "posterior"},
+                                                         {ImputeObjective::kJoint, "joint"}};
+}  // namespace
+
+const char* ToString(ImputeObjective objective) { return NameOf(objective, kObjectiveNames); }
 
 ImputeObjective ParseImputeObjective(const std::string& text) {
-  if (text == "posterior") return ImputeObjective::kPosterior;
-  if (text == "joint") return ImputeObjective::kJoint;
-  throw std::invalid_argument("impute objective: expected 'posterior' or 'joint', got '" + text +
-                              "'");
+  return ParseEnumName(text, kObjectiveNames, "impute objective");
 }
 
 void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {

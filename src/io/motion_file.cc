@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/enum_names.h"
 #include "io/csv.h"
 #include "io/npy.h"
 
@@ -20,15 +21,9 @@ MotionFormat FormatOfPath(const std::string& path) {
 }
 
 const char* ToString(MotionFormat format) {
-  switch (format) {
-    case MotionFormat::kBvh:
-      return "BVH";
-    case MotionFormat::kNpy:
-      return "NumPy .npy";
-    case MotionFormat::kCsv:
-      return "CSV";
-  }
-  return "?";
+  static constexpr EnumName<MotionFormat> kNames[] = {
+      {MotionFormat::kBvh, "BVH"}, {MotionFormat::kNpy, "NumPy .npy"}, {MotionFormat::kCsv, "CSV"}};
+  return NameOf(format, kNames);
 }
 
 Motion ReadMotionFile(const std::string& path, const MotionReadOptions& options) {
