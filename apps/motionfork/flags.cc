@@ -7,19 +7,11 @@
 
 namespace motionfork::app {
 
-void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
-                         const std::string& new_spelling, std::string* target) {
-  cmd->add_option_function<std::string>(
-         old_flag,
-         [old_flag, new_spelling, target](const std::string& value) {
-           std::fprintf(stderr,
-                        "motionfork: note: %s is deprecated, write %s instead (the old spelling "
-                        "goes away in the next release)\n",
-                        old_flag.c_str(), new_spelling.c_str());
-           *target = value;
-         },
-         "Deprecated: " + new_spelling)
-      ->group("");  // hidden from --help
+void NoteDeprecated(const std::string& old_spelling, const std::string& new_spelling) {
+  std::fprintf(stderr,
+               "motionfork: note: %s is deprecated, write %s instead (the old spelling goes away "
+               "in the next release)\n",
+               old_spelling.c_str(), new_spelling.c_str());
 }
 
 void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,

@@ -8,10 +8,23 @@
 
 namespace motionfork::app {
 
-// A hidden option `old_flag` that sets *target like `new_spelling` does and prints a note on
-// stderr saying what to write instead (the old spelling goes away in the next release).
+// Prints on stderr that `old_spelling` is deprecated and what to write instead (the old spelling
+// goes away in the next release).
+void NoteDeprecated(const std::string& old_spelling, const std::string& new_spelling);
+
+// A hidden option `old_flag` that sets *target like `new_spelling` does and prints the note.
+template <typename T>
 void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
-                         const std::string& new_spelling, std::string* target);
+                         const std::string& new_spelling, T* target) {
+  cmd->add_option_function<T>(
+         old_flag,
+         [old_flag, new_spelling, target](const T& value) {
+           NoteDeprecated(old_flag, new_spelling);
+           *target = value;
+         },
+         "Deprecated: " + new_spelling)
+      ->group("");  // hidden from --help
+}
 
 // The motion file a subcommand reads, named by its first argument (MOTION); `old_flag` (e.g.
 // --history) is accepted for one release. Call RequireMotion(path) in the subcommand's callback.
