@@ -29,7 +29,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DenoisingRow, noise, noisy_cm, smooth_cm, den
 namespace motionfork::app {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 
 // --mode / --iterations / --draws / --seed / --blend over the bundle's defaults.
 struct DenoiseFlags {
@@ -217,7 +217,7 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
             {"iterations", e.iterations},
             {"optimisation_clips", e.optimisation_clips},
             {"regression_frames_per_s", e.regression_frames_per_s},
-            {"settings", e.settings}};
+            {"settings", json(nlohmann::json(e.settings))}};
   if (e.optimisation_clips > 0) j["optimisation_frames_per_s"] = e.optimisation_frames_per_s;
   if (e.forecasting) {
     PrintForecasting(*e.forecasting);

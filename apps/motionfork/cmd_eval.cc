@@ -14,7 +14,7 @@
 namespace motionfork::app {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 
 struct EvalCommandOptions {
   EvalExperimentOptions experiment;

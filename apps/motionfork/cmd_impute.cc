@@ -27,7 +27,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(OodTest, degradation, auroc_joint, auroc_post
 namespace motionfork::app {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 
 // --steps / --lr / --objective over the bundle's defaults.
 struct ImputeFlags {
@@ -243,7 +243,7 @@ json PrintOod(const HgvaeEvaluation& e, const HgvaeModel& model) {
   return {{"score", ToString(model.manifest().ood_score)},
           {"threshold", model.OodThreshold()},
           {"clean_flagged", e.clean_flagged},
-          {"tests", e.ood}};
+          {"tests", json(nlohmann::json(e.ood))}};
 }
 
 void PrintForecasting(const ForecastingFigures& f) {
@@ -278,7 +278,7 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
             {"window_frames", e.window_frames},
             {"parameters", model.num_parameters()},
             {"stochastic_levels", e.stochastic_levels},
-            {"likelihood", e.likelihood}};
+            {"likelihood", json(nlohmann::json(e.likelihood))}};
   if (!e.likelihood_only) {
     j["imputation"] = PrintImputation(e, o.eval.impute);
     j["ood"] = PrintOod(e, model);

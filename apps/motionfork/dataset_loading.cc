@@ -45,9 +45,9 @@ HistoryForecaster LoadHistoryForecaster(const std::string& dir, int k, uint64_t 
           }};
 }
 
-nlohmann::json ForecastingJson(const ForecastingFigures& f, const std::string& setting_key,
-                               const std::string& before, const std::string& after) {
-  nlohmann::json settings = nlohmann::json::array();
+nlohmann::ordered_json ForecastingJson(const ForecastingFigures& f, const std::string& setting_key,
+                                       const std::string& before, const std::string& after) {
+  nlohmann::ordered_json settings = nlohmann::ordered_json::array();
   for (const RepairedForecast& s : f.settings) {
     settings.push_back({{setting_key, s.setting},
                         {"ade_" + before, s.before.ade},

@@ -28,7 +28,7 @@ HistoryForecaster LoadHistoryForecaster(const std::string& dir, int k, uint64_t 
 
 // The forecasting figures as JSON; setting_key names each setting, before/after suffix its ADE
 // and FDE keys (e.g. "occlusion", "mean_imputed", "hgvae_imputed").
-nlohmann::json ForecastingJson(const ForecastingFigures& f, const std::string& setting_key,
-                               const std::string& before, const std::string& after);
+nlohmann::ordered_json ForecastingJson(const ForecastingFigures& f, const std::string& setting_key,
+                                       const std::string& before, const std::string& after);
 
 }  // namespace motionfork::app

@@ -39,7 +39,8 @@ void RequireArgument(const std::string& value, const std::string& name);
 // --json [FILE]: the report as JSON, written to FILE, or printed on stdout when FILE is '-' or
 // left out.
 void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what);
-// Prints (destination "-") or writes atomically (any other path) the report; "" = nothing.
-void EmitJson(const std::string& destination, const nlohmann::json& report);
+// Prints on one line (destination "-") or writes atomically, indented (any other path), the
+// report; "" = nothing.
+void EmitJson(const std::string& destination, const nlohmann::ordered_json& report);
 
 }  // namespace motionfork::app
