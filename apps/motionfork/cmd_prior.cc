@@ -232,13 +232,7 @@ void RunSample(const SampleOptions& o, const GlobalOptions&) {
       prior.skeleton().num_joints(), o.output.c_str());
 }
 
-}  // namespace
-
-void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
-  CLI::App* prior = app.add_subcommand(
-      "prior", "Pose prior: a normalizing flow on limb directions that scores and samples poses");
-  prior->require_subcommand(1);
-
+void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
   auto t = std::make_shared<pipeline::PriorTrainingRequest>();
   CLI::App* train = prior->add_subcommand(
       "train", "Train a pose prior on single frames of a protocol's training split");
@@ -268,7 +262,9 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
   train->add_flag("--restart", t->restart,
                   "Discard a checkpoint or trained prior in OUT and train from the start");
   train->callback([t, &global] { RunTrain(*t, global); });
+}
 
+void AddPriorScore(CLI::App* prior, GlobalOptions& global) {
   auto s = std::make_shared<ScoreOptions>();
   CLI::App* score = prior->add_subcommand(
       "score", "Per-frame negative log-likelihood of a motion under a prior, and a summary");
@@ -285,7 +281,9 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
   AddJsonOption(score, &s->json, "The per-frame NLL and the summary, instead of text,");
   score->add_flag("--summary-only", s->summary_only, "Text output without the per-frame table");
   score->callback([s, &global] { RunScore(*s, global); });
+}
 
+void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
   auto m = std::make_shared<SampleOptions>();
   CLI::App* sample = prior->add_subcommand("sample", "Draw poses from a prior into a motion file");
   sample->footer(
@@ -314,6 +312,17 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
     RequireArgument(m->output, "-o,--out");
     RunSample(*m, global);
   });
+}
+
+}  // namespace
+
+void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
+  CLI::App* prior = app.add_subcommand(
+      "prior", "Pose prior: a normalizing flow on limb directions that scores and samples poses");
+  prior->require_subcommand(1);
+  AddPriorTrain(prior, global);
+  AddPriorScore(prior, global);
+  AddPriorSample(prior, global);
 }
 
 }  // namespace motionfork::app
