@@ -54,8 +54,7 @@ int Run(int argc, char** argv) {
   for (int t = from; t < T; ++t) {
     for (int j : hidden) {
       for (int c = 0; c < 3; ++c) {
-        history[(static_cast<size_t>(t) * J + j) * 3 + c] =
-            std::numeric_limits<float>::quiet_NaN();
+        history[(static_cast<size_t>(t) * J + j) * 3 + c] = std::numeric_limits<float>::quiet_NaN();
       }
     }
   }

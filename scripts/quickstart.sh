@@ -25,10 +25,10 @@ else
 fi
 
 step "motionfork predict: 50 futures of the last 0.5 s of $HISTORY"
-"$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 -o "$DEMO/futures"
+"$MF" predict "$HISTORY" --model "$MODEL" -k 50 --seed 0 -o "$DEMO/futures"
 
 step "motionfork predict --fix legs: the same legs in all 50 futures, varied upper bodies"
-"$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 --fix legs -o "$DEMO/same-legs"
+"$MF" predict "$HISTORY" --model "$MODEL" -k 50 --seed 0 --fix legs -o "$DEMO/same-legs"
 
 step "motionfork check: angle ranges of the history itself"
 # Exit status 1 means some frame is outside a range: a finding, not a failure.
@@ -36,22 +36,22 @@ step "motionfork check: angle ranges of the history itself"
   { rc=$?; [ "$rc" -eq 1 ] || exit "$rc"; }
 
 step "motionfork render: pictures"
-"$MF" render "$DEMO/futures.json" --samples 5 -o "$DEMO/futures.png"
-"$MF" render "$DEMO/futures.json" --overlay --samples 50 -o "$DEMO/futures-overlay.png"
-"$MF" render "$DEMO/same-legs.json" --samples 5 -o "$DEMO/same-legs.png"
+"$MF" render "$DEMO/futures.json" --count 5 -o "$DEMO/futures.png"
+"$MF" render "$DEMO/futures.json" --overlay --count 50 -o "$DEMO/futures-overlay.png"
+"$MF" render "$DEMO/same-legs.json" --count 5 -o "$DEMO/same-legs.png"
 "$MF" render "$DEMO/futures.json" -o "$DEMO/futures.html"
 
 step "motionfork export: future 0 as BVH (open it in Blender, Maya, MotionBuilder)"
 "$MF" export "$DEMO/futures.json" --sample 0 -o "$DEMO/future_00.bvh"
 
 step "motionfork predict --impute: the left forearm and hand lost in the history, filled by the HG-VAE, then forecast"
-"$MF" predict --model "$MODEL" --history "$HISTORY" -k 50 --seed 0 --impute "$MODEL/hgvae" \
+"$MF" predict "$HISTORY" --model "$MODEL" -k 50 --seed 0 --impute "$MODEL/hgvae" \
   --mask joints:LowerArm_L,Hand_L -o "$DEMO/imputed"
 
 step "motionfork denoise: the history with 4 cm of noise added, cleaned by the Motion-DVAE, then forecast"
-"$MF" denoise --model "$MODEL/dvae" --motion "$HISTORY" --skeleton bandai --add-noise gaussian:0.04 \
+"$MF" denoise "$HISTORY" --model "$MODEL/dvae" --skeleton bandai --add-noise gaussian:0.04 \
   -o "$DEMO/denoised.csv"
-"$MF" predict --model "$MODEL" --history "$DEMO/denoised.csv" -k 50 --seed 0 -o "$DEMO/denoised-futures"
+"$MF" predict "$DEMO/denoised.csv" --model "$MODEL" -k 50 --seed 0 -o "$DEMO/denoised-futures"
 
 echo
 echo "quickstart: done. Results in $DEMO:"

@@ -79,6 +79,16 @@ void ProgressBar::Finish() {
   if (tty_ && last_draw_ > start_) std::fprintf(stderr, "\n");
 }
 
+StageProgress StageBars::Callback() {
+  return [this](const std::string& stage, double fraction, const std::string& detail) {
+    if (!bar_ || stage != stage_) {
+      bar_ = std::make_unique<ProgressBar>(stage, enabled_);
+      stage_ = stage;
+    }
+    bar_->Update(fraction, detail);
+  };
+}
+
 std::string WithThousands(long long n) {
   std::string digits = std::to_string(n < 0 ? -n : n);
   std::string out;

@@ -3,7 +3,10 @@
 #pragma once
 
 #include <chrono>
+#include <memory>
 #include <string>
+
+#include "core/progress.h"
 
 namespace motionfork::app {
 
@@ -35,6 +38,20 @@ class ProgressBar {
   bool finished_ = false;
   int last_decile_ = -1;
   std::chrono::steady_clock::time_point start_, last_draw_;
+};
+
+// A progress bar per stage of a library job (StageProgress): a new bar whenever the stage changes.
+class StageBars {
+ public:
+  explicit StageBars(bool enabled) : enabled_(enabled) {}
+  // The callback to hand the library; valid while this object lives.
+  StageProgress Callback();
+  void Finish() { bar_.reset(); }
+
+ private:
+  bool enabled_;
+  std::string stage_;
+  std::unique_ptr<ProgressBar> bar_;
 };
 
 // "1,234,567"

@@ -4,23 +4,20 @@
 // not, 2 bad input.
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
-#include <optional>
+#include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "commands.h"
-#include "config/config_paths.h"
-#include "config/constraint_config.h"
-#include "config/skeleton_config.h"
-#include "constraints/checker.h"
-#include "constraints/constraint_set.h"
-#include "core/error.h"
+#include "flags.h"
 #include "io/file_util.h"
 #include "motion_options.h"
+#include "pipeline/constraint_check.h"
 
 namespace motionfork::app {
 namespace {
+
+using json = nlohmann::ordered_json;
 
 constexpr int kExitInvalidFrames = 1;
 
@@ -28,33 +25,10 @@ struct CheckOptions {
   std::string file;
   std::string constraints;  // name or path; "" = from --skeleton or detected from joint names
   MotionInputOptions input;
-  bool json = false;
+  std::string json;
   int worst = 5;
   std::string angles_csv;
 };
-
-std::string Json(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string Num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.6g", v);
-  return buf;
-}
 
 std::string Percent(double share) {
   char buf[32];
@@ -62,150 +36,65 @@ std::string Percent(double share) {
   return buf;
 }
 
-// A constraint set bound to the motion, with the motion as the set sees it.
-struct Bound {
-  std::string path;
-  ConstraintSetSpec spec;
-  Motion motion;
-  std::optional<ConstraintSet> set;
-};
+using pipeline::ConstraintCheck;
 
-// Puts the motion on the set's own skeleton config when it names one and the motion fits it
-// (a 22-joint Bandai BVH -> the 17 protocol joints; a 17-joint .npy -> named joints); otherwise
-// the set binds to the motion's joint names as they are.
-Bound BindSet(const std::string& path, const Motion& motion, bool skeleton_given,
-              const std::string& config_dir) {
-  Bound b;
-  b.path = path;
-  b.spec = LoadConstraintConfig(path);
-  b.motion = motion;
-  if (!skeleton_given && !b.spec.skeleton.empty()) {
-    try {
-      const SkeletonConfig sc =
-          LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", b.spec.skeleton));
-      b.motion = ConformToSkeleton(motion, sc);
-    } catch (const std::invalid_argument&) {
-      // Not that skeleton's joints: bind by the motion's own names below.
-    }
-  }
-  if (b.motion.skeleton().is_anonymous() && b.motion.skeleton().joint_name(0) == "j0") {
-    throw std::invalid_argument(
-        "the motion's joints have no names (a .npy file) and do not fit "
-        "skeleton '" +
-        b.spec.skeleton + "' of constraint set '" + b.spec.name + "': pass --skeleton NAME");
-  }
-  b.set = ConstraintSet::Build(b.spec, b.motion.skeleton());
-  return b;
-}
-
-Bound ChooseSet(const CheckOptions& o, const LoadedMotion& lm, const std::string& config_dir) {
-  const Motion& motion = lm.motion;
-  const bool skeleton_given = lm.skeleton_config.has_value();
-  if (!o.constraints.empty()) {
-    return BindSet(ResolveConfigPath(config_dir, "constraints", o.constraints), motion,
-                   skeleton_given, config_dir);
-  }
-  if (skeleton_given) {
-    // The shipped set named like the skeleton (bandai, h36m, humaneva), if there is one.
-    const std::filesystem::path shipped = std::filesystem::path(config_dir) / "constraints" /
-                                          (lm.skeleton_config->skeleton->name() + ".yaml");
-    if (std::filesystem::is_regular_file(shipped)) {
-      return BindSet(shipped.string(), motion, skeleton_given, config_dir);
-    }
-  }
-  // Detect: the shipped sets whose joints the motion has.
-  std::vector<Bound> fits;
-  std::string names;
-  for (const std::string& name : ListConfigs(config_dir, "constraints")) {
-    names += (names.empty() ? "" : ", ") + name;
-    try {
-      fits.push_back(BindSet(ResolveConfigPath(config_dir, "constraints", name), motion,
-                             skeleton_given, config_dir));
-    } catch (const std::exception&) {
-      // Does not fit this motion.
-    }
-  }
-  if (fits.size() == 1) return std::move(fits.front());
-  std::string which;
-  for (const Bound& b : fits) which += (which.empty() ? "" : ", ") + b.spec.name;
-  throw std::invalid_argument(
-      fits.empty() ? "no shipped constraint set (" + names + ") fits the joints of " + o.file +
-                         " (skeleton '" + motion.skeleton().name() +
-                         "'): pass --constraints NAME|FILE, or --skeleton NAME"
-                   : "several shipped constraint sets fit " + o.file + " (" + which +
-                         "): choose one with --constraints NAME or --skeleton NAME");
-}
-
-void WriteAnglesCsv(const std::string& path, const ConstraintSet& set, const CheckResult& r,
-                    double fps) {
-  std::string out = "frame,time_s";
-  for (const Constraint& c : set.constraints()) out += "," + c.name;
-  out += "\n";
-  char buf[32];
-  for (int t = 0; t < r.num_frames; ++t) {
-    std::snprintf(buf, sizeof(buf), "%d,%.6g", t, t / fps);
-    out += buf;
-    for (int c = 0; c < r.num_constraints; ++c) {
-      out += ',';
-      if (r.at(t, c) != AngleStatus::kDegenerate) {
-        std::snprintf(buf, sizeof(buf), "%.4f", r.angle(t, c));
-        out += buf;
-      }
-    }
-    out += '\n';
-  }
-  WriteFileAtomically(path, out);
-}
-
-void PrintJson(const CheckOptions& o, const Bound& b, const CheckResult& r, const CheckSummary& s) {
+json Report(const CheckOptions& o, const ConstraintCheck& b) {
   const ConstraintSet& set = *b.set;
+  const CheckSummary& s = b.summary;
   const double fps = b.motion.fps();
-  std::string j =
-      "{\"file\": " + Json(o.file) + ", \"skeleton\": " + Json(b.motion.skeleton().name()) +
-      ", \"constraint_set\": " + Json(set.name()) + ", \"constraints_file\": " + Json(b.path) +
-      ", \"fps\": " + Num(fps) + ", \"frames\": " + std::to_string(s.frames) +
-      ", \"valid_frames\": " + std::to_string(s.valid_frames) +
-      ", \"valid_frame_share\": " + Num(s.valid_frame_share()) +
-      ", \"violating_frames\": " + std::to_string(s.violating_frames) +
-      ", \"violating_frame_share\": " + Num(s.frames ? double(s.violating_frames) / s.frames : 0) +
-      ", \"degenerate_frames\": " + std::to_string(s.degenerate_frames) + ", \"constraints\": [";
+  json constraints = json::array(), worst = json::array();
   for (int c = 0; c < set.num_constraints(); ++c) {
     const Constraint& k = set.constraint(c);
     const ConstraintSummary& cs = s.constraints[c];
     const bool any_defined = cs.degenerate < s.frames;
-    j += std::string(c ? ", " : "") + "{\"name\": " + Json(k.name) +
-         ", \"side\": " + Json(ToString(k.side)) + ", \"a\": " + Json(k.a_text) +
-         ", \"b\": " + Json(k.b_text) + ", \"lower_deg\": " + Num(k.lower_deg) +
-         ", \"upper_deg\": " + Num(k.upper_deg) +
-         ", \"violations\": " + std::to_string(cs.violations()) +
-         ", \"violation_rate\": " + Num(cs.violation_rate) +
-         ", \"below\": " + std::to_string(cs.below) + ", \"above\": " + std::to_string(cs.above) +
-         ", \"degenerate\": " + std::to_string(cs.degenerate) +
-         ", \"min_deg\": " + (any_defined ? Num(cs.min_deg) : "null") +
-         ", \"max_deg\": " + (any_defined ? Num(cs.max_deg) : "null") +
-         ", \"worst_frame\": " + (cs.worst_frame >= 0 ? std::to_string(cs.worst_frame) : "null") +
-         ", \"worst_excess_deg\": " + Num(cs.worst_excess_deg) + "}";
+    constraints.push_back({{"name", k.name},
+                           {"side", ToString(k.side)},
+                           {"a", k.a_text},
+                           {"b", k.b_text},
+                           {"lower_deg", k.lower_deg},
+                           {"upper_deg", k.upper_deg},
+                           {"violations", cs.violations()},
+                           {"violation_rate", cs.violation_rate},
+                           {"below", cs.below},
+                           {"above", cs.above},
+                           {"degenerate", cs.degenerate},
+                           {"min_deg", any_defined ? json(cs.min_deg) : json()},
+                           {"max_deg", any_defined ? json(cs.max_deg) : json()},
+                           {"worst_frame", cs.worst_frame >= 0 ? json(cs.worst_frame) : json()},
+                           {"worst_excess_deg", cs.worst_excess_deg}});
   }
-  j += "], \"worst_frames\": [";
-  for (size_t k = 0; k < s.worst_frames.size(); ++k) {
-    const FrameViolation& fv = s.worst_frames[k];
-    j += std::string(k ? ", " : "") + "{\"frame\": " + std::to_string(fv.frame) +
-         ", \"time_s\": " + Num(fv.frame / fps) + ", \"excess_deg\": " + Num(fv.excess_deg) +
-         ", \"violations\": [";
-    for (size_t i = 0; i < fv.constraints.size(); ++i) {
-      const Constraint& c = set.constraint(fv.constraints[i]);
-      j += std::string(i ? ", " : "") + "{\"constraint\": " + Json(c.name) +
-           ", \"angle_deg\": " + Num(r.angle(fv.frame, fv.constraints[i])) +
-           ", \"lower_deg\": " + Num(c.lower_deg) + ", \"upper_deg\": " + Num(c.upper_deg) + "}";
+  for (const FrameViolation& fv : s.worst_frames) {
+    json violations = json::array();
+    for (int c : fv.constraints) {
+      violations.push_back({{"constraint", set.constraint(c).name},
+                            {"angle_deg", b.result.angle(fv.frame, c)},
+                            {"lower_deg", set.constraint(c).lower_deg},
+                            {"upper_deg", set.constraint(c).upper_deg}});
     }
-    j += "]}";
+    worst.push_back({{"frame", fv.frame},
+                     {"time_s", fv.frame / fps},
+                     {"excess_deg", fv.excess_deg},
+                     {"violations", violations}});
   }
-  j += "]}\n";
-  std::fputs(j.c_str(), stdout);
+  return {{"file", o.file},
+          {"skeleton", b.motion.skeleton().name()},
+          {"constraint_set", set.name()},
+          {"constraints_file", b.path},
+          {"fps", fps},
+          {"frames", s.frames},
+          {"valid_frames", s.valid_frames},
+          {"valid_frame_share", s.valid_frame_share()},
+          {"violating_frames", s.violating_frames},
+          {"violating_frame_share", s.frames ? double(s.violating_frames) / s.frames : 0},
+          {"degenerate_frames", s.degenerate_frames},
+          {"constraints", constraints},
+          {"worst_frames", worst}};
 }
 
-void PrintText(const CheckOptions& o, const Bound& b, const CheckResult& r, const CheckSummary& s) {
+void PrintText(const CheckOptions& o, const ConstraintCheck& b) {
   const ConstraintSet& set = *b.set;
+  const CheckSummary& s = b.summary;
+  const CheckResult& r = b.result;
   const Motion& m = b.motion;
   std::printf("motion:       %s (skeleton %s, %d joints, %s frames at %.6g Hz)\n", o.file.c_str(),
               m.skeleton().name().c_str(), m.num_joints(), WithThousands(s.frames).c_str(),
@@ -260,16 +149,13 @@ void PrintText(const CheckOptions& o, const Bound& b, const CheckResult& r, cons
 void RunCheck(const CheckOptions& o, GlobalOptions& g) {
   const std::string config_dir = ConfigDir(g.config_dir);
   const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
-  const Bound b = ChooseSet(o, lm, config_dir);
-  const CheckResult r = Check(*b.set, b.motion);
-  const CheckSummary s = Summarize(*b.set, r, o.worst);
-  if (!o.angles_csv.empty()) WriteAnglesCsv(o.angles_csv, *b.set, r, b.motion.fps());
-  if (o.json) {
-    PrintJson(o, b, r, s);
-  } else {
-    PrintText(o, b, r, s);
+  const ConstraintCheck b = pipeline::CheckMotion(lm, o.file, o.constraints, config_dir, o.worst);
+  if (!o.angles_csv.empty()) {
+    WriteFileAtomically(o.angles_csv, pipeline::AnglesCsv(*b.set, b.result, b.motion.fps()));
   }
-  g.exit_code = s.valid_frames == s.frames ? kExitOk : kExitInvalidFrames;
+  if (o.json != "-") PrintText(o, b);
+  EmitJson(o.json, Report(o, b));
+  g.exit_code = b.summary.valid_frames == b.summary.frames ? kExitOk : kExitInvalidFrames;
 }
 
 }  // namespace
@@ -290,9 +176,9 @@ void AddCheckCommand(CLI::App& app, GlobalOptions& global) {
       "Constraint set: shipped name (bandai, h36m, humaneva) or YAML path. Default: the "
       "set named like --skeleton, else the one shipped set whose joints the motion has");
   AddMotionInputOptions(cmd, &o->input);
-  cmd->add_flag("--json", o->json,
-                "Print one JSON object (frames, valid_frame_share, per-constraint violation_rate, "
-                "worst_frames) instead of text");
+  AddJsonOption(cmd, &o->json,
+                "The report (frames, valid_frame_share, per-constraint violation_rate, "
+                "worst_frames), instead of text on stdout,");
   cmd->add_option("--worst", o->worst, "How many of the worst frames to list (default 5)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--angles", o->angles_csv,

@@ -7,30 +7,27 @@
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
-#include "bundle/generator_bundle.h"
 #include "bundle/hgvae_bundle.h"
-#include "config/config_paths.h"
-#include "config/protocol_config.h"
-#include "config/skeleton_config.h"
 #include "core/error.h"
 #include "dataset_loading.h"
-#include "eval/metrics.h"
-#include "eval/test_set.h"
 #include "flags.h"
-#include "generator/inference/forecaster.h"
 #include "hgvae_commands.h"
-#include "imputation/hgvae_experiments.h"
+#include "imputation/hgvae_evaluation.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
-#include "imputation/occlusion.h"
-#include "io/file_util.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
+
+namespace motionfork {
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(HgvaeLikelihood, elbo_nats, recon_mse_m2, recon_mse_sampled_m2,
+                                   kl_levels, kl_total, posterior_score_mean, joint_score_mean)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(OodTest, degradation, auroc_joint, auroc_posterior, flagged)
+}  // namespace motionfork
 
 namespace motionfork::app {
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 
 // --steps / --lr / --objective over the bundle's defaults.
 struct ImputeFlags {
@@ -152,18 +149,15 @@ void RunOod(const OodCmd& o, GlobalOptions& g) {
       "%.3g x std %.1f)\n",
       flagged, scores.size(), ToString(model.manifest().ood_score), model.manifest().score_mean,
       model.manifest().ood_k, model.manifest().score_std);
-  if (!o.json_out.empty()) {
-    const json j = {{"model", o.model},
-                    {"motion", o.motion},
-                    {"score", ToString(model.manifest().ood_score)},
-                    {"threshold", model.OodThreshold()},
-                    {"score_mean", model.manifest().score_mean},
-                    {"score_std", model.manifest().score_std},
-                    {"k", model.manifest().ood_k},
-                    {"flagged", flagged},
-                    {"windows", windows}};
-    WriteFileAtomically(o.json_out, j.dump(2) + "\n");
-  }
+  EmitJson(o.json_out, {{"model", o.model},
+                        {"motion", o.motion},
+                        {"score", ToString(model.manifest().ood_score)},
+                        {"threshold", model.OodThreshold()},
+                        {"score_mean", model.manifest().score_mean},
+                        {"score_std", model.manifest().score_std},
+                        {"k", model.manifest().ood_k},
+                        {"flagged", flagged},
+                        {"windows", windows}});
   g.exit_code = flagged > 0 ? 1 : 0;
 }
 
@@ -196,239 +190,105 @@ void RunSample(const SampleCmd& o, const GlobalOptions&) {
 // ---- hgvae eval ----
 struct EvalCmd {
   std::string model, data, split_file, forecaster, json_out;
-  int windows = 1000, forecast_windows = 500, k = 50;
-  uint64_t seed = 0;
-  bool likelihood_only = false;
+  HgvaeEvalOptions eval;
   ImputeFlags flags;
 };
 
-// Test-split windows of the model's length: every window-th start of every test clip, at most
-// `limit` spread evenly. [count, T, N]
-std::vector<float> TestWindows(const Dataset& ds, int window, int limit) {
-  std::vector<float> all;
-  int count = 0;
-  for (int c : ds.ClipIndices(Split::kTest)) {
-    const std::vector<float> p = PoseVectorsWithoutRoot(ds.clips[c].motion);
-    const int N = 3 * (ds.clips[c].motion.num_joints() - 1), T = ds.clips[c].motion.num_frames();
-    for (int s = 0; s + window <= T; s += window, ++count) {
-      all.insert(all.end(), p.begin() + static_cast<size_t>(s) * N,
-                 p.begin() + static_cast<size_t>(s + window) * N);
-    }
-  }
-  if (count == 0)
-    throw std::invalid_argument("no test clip is " + std::to_string(window) + " frames long");
-  if (count <= limit) return all;
-  const size_t per = all.size() / count;
-  std::vector<float> out;
-  for (int i = 0; i < limit; ++i) {
-    const size_t w = static_cast<size_t>(i) * count / limit;
-    out.insert(out.end(), all.begin() + w * per, all.begin() + (w + 1) * per);
-  }
-  return out;
-}
-
-double Mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return v.empty() ? 0.0 : s / v.size();
-}
-
-void RunEval(const EvalCmd& o, const GlobalOptions& g) {
-  const HgvaeModel model = LoadHgvaeModel(o.model);
-  const HgvaeManifest& m = model.manifest();
-  const std::string config_dir = ConfigDir(g.config_dir);
-  const ProtocolOptions protocol =
-      LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", m.protocol));
-  const SkeletonConfig skeleton =
-      LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
-  const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
-  const std::vector<float> windows = TestWindows(ds, model.window(), o.windows);
-  const int T = model.window(), N = model.coords();
-  const int count = static_cast<int>(windows.size() / (static_cast<size_t>(T) * N));
-  json j = {
-      {"model", o.model},
-      {"protocol", m.protocol},
-      {"windows", count},
-      {"window_frames", T},
-      {"parameters", model.num_parameters()},
-      {"stochastic_levels", m.model.stochastic_levels == 0 ? static_cast<int>(m.model.levels.size())
-                                                           : m.model.stochastic_levels}};
-  std::printf(
-      "HG-VAE %s (%s parameters, %zu levels, %d stochastic) on the %s test split: %d windows of %d "
-      "frames\n",
-      o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
-      j["stochastic_levels"].get<int>(), m.protocol.c_str(), count, T);
-
-  // Likelihood: ELBO, reconstruction, KL per level.
-  const HgvaeWindowFigures f = model.Evaluate(windows, o.seed);
+void PrintLikelihood(const HgvaeLikelihood& l) {
   std::printf(
       "\nlikelihood (nats per window, densities in metres): ELBO %.1f, reconstruction MSE %.3g "
-      "cm^2 "
-      "(posterior means; %.3g sampled), KL",
-      Mean(f.elbo), 1e4 * Mean(f.recon_mse), 1e4 * Mean(f.recon_mse_sampled));
-  json kl = json::array();
-  double kl_total = 0;
-  for (const auto& level : f.kl_levels) {
-    std::printf(" %.1f", Mean(level));
-    kl.push_back(Mean(level));
-    kl_total += Mean(level);
-  }
-  std::printf(" (total %.1f); posterior score %.1f, joint score %.1f\n", kl_total, Mean(f.score),
-              Mean(f.joint_score));
-  j["likelihood"] = {{"elbo_nats", Mean(f.elbo)},
-                     {"recon_mse_m2", Mean(f.recon_mse)},
-                     {"recon_mse_sampled_m2", Mean(f.recon_mse_sampled)},
-                     {"kl_levels", kl},
-                     {"kl_total", kl_total},
-                     {"posterior_score_mean", Mean(f.score)},
-                     {"joint_score_mean", Mean(f.joint_score)}};
-  if (o.likelihood_only) {
-    if (!o.json_out.empty()) WriteFileAtomically(o.json_out, j.dump(2) + "\n");
-    return;
-  }
+      "cm^2 (posterior means; %.3g sampled), KL",
+      l.elbo_nats, 1e4 * l.recon_mse_m2, 1e4 * l.recon_mse_sampled_m2);
+  for (double kl : l.kl_levels) std::printf(" %.1f", kl);
+  std::printf(" (total %.1f); posterior score %.1f, joint score %.1f\n", l.kl_total,
+              l.posterior_score_mean, l.joint_score_mean);
+}
 
-  // Imputation vs mean imputation.
-  const ImputeOptions options = o.flags.Apply(m.impute);
-  std::vector<ImputationFigure> figs;
-  {
-    ProgressBar bar("imputation", !g.quiet);
-    figs = ImputationExperiment(model, windows, StandardOcclusions(model.skeleton()), options,
-                                o.seed, [&bar](int d, int t) { bar.Update(double(d) / t); });
-  }
+json PrintImputation(const HgvaeEvaluation& e, const ImputeOptions& options) {
   std::printf("\nimputation (%d Adam steps, lr %.3g, %s objective): MSE per missing value, cm^2\n",
               options.steps, options.learning_rate, ToString(options.objective));
   std::printf("  %-12s %10s %10s %10s %10s   score mean-filled -> imputed\n", "occlusion",
               "missing", "mean", "HG-VAE", "reduction");
-  json imp = json::array();
-  for (const ImputationFigure& x : figs) {
+  json settings = json::array();
+  for (const ImputationFigure& x : e.imputation) {
     std::printf("  %-12s %10lld %10.3f %10.3f %9.1f%%   %.1f -> %.1f\n", x.occlusion.name.c_str(),
                 static_cast<long long>(x.missing_values), 1e4 * x.mse_mean, 1e4 * x.mse_model,
                 100 * x.reduction, x.score_before, x.score_after);
-    imp.push_back({{"occlusion", x.occlusion.name},
-                   {"share", x.occlusion.share},
-                   {"missing_values", x.missing_values},
-                   {"mse_mean_m2", x.mse_mean},
-                   {"mse_hgvae_m2", x.mse_model},
-                   {"reduction", x.reduction},
-                   {"score_mean_filled", x.score_before},
-                   {"score_imputed", x.score_after}});
+    settings.push_back({{"occlusion", x.occlusion.name},
+                        {"share", x.occlusion.share},
+                        {"missing_values", x.missing_values},
+                        {"mse_mean_m2", x.mse_mean},
+                        {"mse_hgvae_m2", x.mse_model},
+                        {"reduction", x.reduction},
+                        {"score_mean_filled", x.score_before},
+                        {"score_imputed", x.score_after}});
   }
-  j["imputation"] = {{"steps", options.steps},
-                     {"learning_rate", options.learning_rate},
-                     {"objective", ToString(options.objective)},
-                     {"settings", imp}};
+  return {{"steps", options.steps},
+          {"learning_rate", options.learning_rate},
+          {"objective", ToString(options.objective)},
+          {"settings", settings}};
+}
 
-  // Out of distribution: AUROC of both scores, clean vs degraded; flagged by the bundle's score.
-  const std::vector<double> clean = model.Score(windows);
-  const std::vector<double> clean_post = model.Score(windows, ImputeObjective::kPosterior);
-  const std::vector<double> clean_joint = model.Score(windows, ImputeObjective::kJoint);
-  struct Degraded {
-    std::string name;
-    std::vector<float> w;
-  };
-  std::vector<Degraded> degraded;
-  for (double s : {0.005, 0.05, 0.5}) {
-    char name[64];
-    std::snprintf(name, sizeof(name), "%.3g%% values -> mean", 100 * s);
-    degraded.push_back({name, ReplaceWithMean(model, windows, s, o.seed + 7)});
-  }
-  degraded.push_back({"bones x1.5", ScaleBones(model.skeleton(), windows, 1.5f)});
-  degraded.push_back({"bones x0.7", ScaleBones(model.skeleton(), windows, 0.7f)});
-  degraded.push_back({"shuffled frames", ShuffleFrames(windows, N, o.seed + 11)});
+json PrintOod(const HgvaeEvaluation& e, const HgvaeModel& model) {
   std::printf(
       "\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; "
-      "share flagged "
-      "by the bundle's rule (%s score < %.1f)\n",
-      ToString(m.ood_score), model.OodThreshold());
-  int clean_flagged = 0;
-  for (double s : clean) clean_flagged += model.OutOfDistribution(s);
+      "share flagged by the bundle's rule (%s score < %.1f)\n",
+      ToString(model.manifest().ood_score), model.OodThreshold());
   std::printf("  %-22s %12s %12s %8s\n", "windows", "AUROC joint", "posterior", "flagged");
-  std::printf("  %-22s %12s %12s %7.1f%%\n", "clean", "-", "-", 100.0 * clean_flagged / count);
-  json ood = json::array();
-  for (const Degraded& d : degraded) {
-    const std::vector<double> s = model.Score(d.w);
-    int flagged = 0;
-    for (double x : s) flagged += model.OutOfDistribution(x);
-    const double auc_joint = Auroc(clean_joint, model.Score(d.w, ImputeObjective::kJoint));
-    const double auc_post = Auroc(clean_post, model.Score(d.w, ImputeObjective::kPosterior));
-    std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", d.name.c_str(), auc_joint, auc_post,
-                100.0 * flagged / count);
-    ood.push_back({{"degradation", d.name},
-                   {"auroc_joint", auc_joint},
-                   {"auroc_posterior", auc_post},
-                   {"flagged", double(flagged) / count}});
+  std::printf("  %-22s %12s %12s %7.1f%%\n", "clean", "-", "-", 100.0 * e.clean_flagged);
+  for (const OodTest& t : e.ood) {
+    std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", t.degradation.c_str(), t.auroc_joint,
+                t.auroc_posterior, 100.0 * t.flagged);
   }
-  j["ood"] = {{"score", ToString(m.ood_score)},
-              {"threshold", model.OodThreshold()},
-              {"clean_flagged", double(clean_flagged) / count},
-              {"tests", ood}};
+  return {{"score", ToString(model.manifest().ood_score)},
+          {"threshold", model.OodThreshold()},
+          {"clean_flagged", e.clean_flagged},
+          {"tests", json(nlohmann::json(e.ood))}};
+}
 
-  // Downstream forecasting from clean, mean-imputed and imputed histories.
-  if (!o.forecaster.empty()) {
-    const Forecaster fc = LoadForecaster(o.forecaster);
-    if (fc.config().generator.t_his != T) {
-      throw std::invalid_argument("the forecaster's history is " +
-                                  std::to_string(fc.config().generator.t_his) +
-                                  " frames, the HG-VAE's window " + std::to_string(T));
-    }
-    std::vector<const Clip*> test_clips;
-    for (int c : ds.ClipIndices(Split::kTest)) test_clips.push_back(&ds.clips[c]);
-    const TestSet ts = BuildTestSet(test_clips, protocol);
-    const int total = ts.num_windows(), H = std::min(o.forecast_windows, total);
-    const int J = ts.num_joints(), D = ts.pose_dims, P = ts.t_pred;
-    std::vector<float> hist, fut;
-    for (int i = 0; i < H; ++i) {
-      const int w = static_cast<int>(static_cast<int64_t>(i) * total / H);
-      const float* h = ts.history(w);
-      for (int t = 0; t < T; ++t) {
-        for (int v = 0; v < D; ++v) hist.push_back(h[(t * J + 1) * 3 + v] - h[t * J * 3 + v % 3]);
-      }
-      fut.insert(fut.end(), ts.future(w), ts.future(w) + static_cast<size_t>(P) * D);
-    }
-    ForecastRequest req;
-    req.k = o.k;
-    req.seed = o.seed;
-    // The network's raw futures: the history is what differs, and the angle-range repair's cost
-    // grows with every implausible (e.g. mean-filled) history.
-    req.repair = false;
-    auto score = [&](const std::vector<float>& histories) {
-      const Displacement d =
-          MeanMinDisplacement(fc.PredictRootRelative(histories, H, req), fut, H, o.k, P, D);
-      return std::make_pair(d.ade, d.fde);
-    };
-    std::printf("\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE from\n",
-                o.forecaster.c_str(), o.k, H);
-    const auto clean_fc = score(hist);
-    std::printf("  %-12s clean %.3f / %.3f\n", "", clean_fc.first, clean_fc.second);
-    json fcj = json::array();
-    const std::vector<Occlusion> settings = StandardOcclusions(model.skeleton());
-    ProgressBar bar("forecasting", !g.quiet);
-    for (size_t s = 0; s < settings.size(); ++s) {
-      const Occlusion& oc = settings[s];
-      const std::vector<uint8_t> mask = oc.share > 0
-                                            ? RandomOcclusion(H, T * N, oc.share, o.seed + 99 + s)
-                                            : JointOcclusion(H, T, J, oc.joints);
-      const auto mean_fc = score(model.MeanImpute(hist, mask));
-      const auto imp_fc = score(model.Impute(hist, mask, options).windows);
-      std::printf("  %-12s mean-imputed %.3f / %.3f   HG-VAE-imputed %.3f / %.3f\n",
-                  oc.name.c_str(), mean_fc.first, mean_fc.second, imp_fc.first, imp_fc.second);
-      fcj.push_back({{"occlusion", oc.name},
-                     {"ade_mean_imputed", mean_fc.first},
-                     {"fde_mean_imputed", mean_fc.second},
-                     {"ade_hgvae_imputed", imp_fc.first},
-                     {"fde_hgvae_imputed", imp_fc.second}});
-      bar.Update(double(s + 1) / settings.size());
-    }
-    bar.Finish();
-    j["forecasting"] = {{"forecaster", o.forecaster},
-                        {"k", o.k},
-                        {"windows", H},
-                        {"repair", false},
-                        {"ade_clean", clean_fc.first},
-                        {"fde_clean", clean_fc.second},
-                        {"settings", fcj}};
+void PrintForecasting(const ForecastingFigures& f) {
+  std::printf("\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE from\n",
+              f.forecaster.c_str(), f.k, f.windows);
+  std::printf("  %-12s clean %.3f / %.3f\n", "", f.clean.ade, f.clean.fde);
+  for (const RepairedForecast& s : f.settings) {
+    std::printf("  %-12s mean-imputed %.3f / %.3f   HG-VAE-imputed %.3f / %.3f\n",
+                s.setting.c_str(), s.before.ade, s.before.fde, s.after.ade, s.after.fde);
   }
-  if (!o.json_out.empty()) WriteFileAtomically(o.json_out, j.dump(2) + "\n");
+}
+
+void RunEval(EvalCmd o, const GlobalOptions& g) {
+  const HgvaeModel model = LoadHgvaeModel(o.model);
+  const HgvaeManifest& m = model.manifest();
+  const Dataset ds = LoadProtocolDataset(m.protocol, o.data, o.split_file, g);
+  o.eval.impute = o.flags.Apply(m.impute);
+  o.eval.forecaster = LoadHistoryForecaster(o.forecaster, o.eval.k, o.eval.seed);
+  StageBars bars(!g.quiet);
+  o.eval.progress = bars.Callback();
+  const HgvaeEvaluation e = EvaluateHgvae(model, ds, o.eval);
+  bars.Finish();
+  std::printf(
+      "HG-VAE %s (%s parameters, %zu levels, %d stochastic) on the %s test split: %d windows of %d "
+      "frames\n",
+      o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
+      e.stochastic_levels, m.protocol.c_str(), e.windows, e.window_frames);
+  PrintLikelihood(e.likelihood);
+  json j = {{"model", o.model},
+            {"protocol", m.protocol},
+            {"windows", e.windows},
+            {"window_frames", e.window_frames},
+            {"parameters", model.num_parameters()},
+            {"stochastic_levels", e.stochastic_levels},
+            {"likelihood", json(nlohmann::json(e.likelihood))}};
+  if (!e.likelihood_only) {
+    j["imputation"] = PrintImputation(e, o.eval.impute);
+    j["ood"] = PrintOod(e, model);
+  }
+  if (e.forecasting) {
+    PrintForecasting(*e.forecasting);
+    j["forecasting"] =
+        ForecastingJson(*e.forecasting, "occlusion", "mean_imputed", "hgvae_imputed");
+  }
+  EmitJson(o.json_out, j);
 }
 
 }  // namespace
@@ -477,7 +337,7 @@ void AddOodCommand(CLI::App& app, GlobalOptions& global) {
                   "Frames between window starts (default: the window length)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
-  cmd->add_option("--json", o->json_out, "Also write the scores to this JSON file");
+  AddJsonOption(cmd, &o->json_out, "The scores");
   AddMotionInputOptions(cmd, &o->input);
   cmd->callback([o, &global] {
     RequireMotion(o->motion);
@@ -515,18 +375,18 @@ void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global) {
       ->required()
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--split", o->split_file, "Split file overriding the protocol's");
-  cmd->add_option("--windows", o->windows, "Test windows, spread evenly (default 1000)")
+  cmd->add_option("--windows", o->eval.windows, "Test windows, spread evenly (default 1000)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--forecaster", o->forecaster,
                   "Generator bundle for the downstream figures (e.g. models/bandai)");
-  cmd->add_option("--forecast-windows", o->forecast_windows,
+  cmd->add_option("--forecast-windows", o->eval.forecast_windows,
                   "Protocol test windows for them (default 500)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("-k", o->k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
-  cmd->add_option("--seed", o->seed, "Seed of masks and samples (default 0)");
-  cmd->add_flag("--likelihood-only", o->likelihood_only, "Only the likelihood figures");
+  cmd->add_option("-k", o->eval.k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)");
+  cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
   AddImputeFlags(cmd, &o->flags);
-  cmd->add_option("--json", o->json_out, "Also write every figure to this JSON file");
+  AddJsonOption(cmd, &o->json_out, "Every figure");
   cmd->callback([o, &global] { RunEval(*o, global); });
 }
 

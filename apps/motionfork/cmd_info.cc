@@ -1,27 +1,38 @@
 // motionfork info FILE: what a motion file holds.
 #include <cstdio>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "commands.h"
+#include "flags.h"
 #include "motion_options.h"
 
 namespace motionfork::app {
 namespace {
 
+using json = nlohmann::ordered_json;
+
 struct InfoOptions {
   std::string file;
   MotionInputOptions input;
-  bool json = false;
+  std::string json;
 };
 
-std::string JsonEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out;
+json Report(const InfoOptions& o, const LoadedMotion& lm, const BoundingBox& box) {
+  const Motion& m = lm.motion;
+  const Skeleton& s = m.skeleton();
+  return {{"file", o.file},
+          {"skeleton", s.name()},
+          {"joints", s.num_joints()},
+          {"joint_names", s.joint_names()},
+          {"parents", s.parents()},
+          {"frames", m.num_frames()},
+          {"fps", m.fps()},
+          {"fps_assumed", lm.fps_assumed},
+          {"duration_s", m.duration_seconds()},
+          {"bbox_min_m", {box.min[0], box.min[1], box.min[2]}},
+          {"bbox_max_m", {box.max[0], box.max[1], box.max[2]}}};
 }
 
 void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
@@ -30,19 +41,8 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
   const Motion& m = lm.motion;
   const Skeleton& s = m.skeleton();
   const BoundingBox box = ComputeBoundingBox(m);
-  if (o.json) {
-    std::printf("{\"file\": \"%s\", \"skeleton\": \"%s\", \"joints\": %d, \"joint_names\": [",
-                JsonEscape(o.file).c_str(), JsonEscape(s.name()).c_str(), s.num_joints());
-    for (int j = 0; j < s.num_joints(); ++j) {
-      std::printf("%s\"%s\"", j ? ", " : "", JsonEscape(s.joint_name(j)).c_str());
-    }
-    std::printf("], \"parents\": [");
-    for (int j = 0; j < s.num_joints(); ++j) std::printf("%s%d", j ? ", " : "", s.parent(j));
-    std::printf(
-        "], \"frames\": %d, \"fps\": %.6g, \"fps_assumed\": %s, \"duration_s\": %.6g, "
-        "\"bbox_min_m\": [%.6g, %.6g, %.6g], \"bbox_max_m\": [%.6g, %.6g, %.6g]}\n",
-        m.num_frames(), m.fps(), lm.fps_assumed ? "true" : "false", m.duration_seconds(),
-        box.min[0], box.min[1], box.min[2], box.max[0], box.max[1], box.max[2]);
+  if (o.json == "-") {
+    EmitJson(o.json, Report(o, lm, box));
     return;
   }
   std::printf("file:      %s\n", o.file.c_str());
@@ -69,6 +69,7 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
               box.max[0], box.min[1], box.max[1], box.min[2], box.max[2]);
   std::printf("extent (m):       %.3f x %.3f x %.3f\n", box.max[0] - box.min[0],
               box.max[1] - box.min[1], box.max[2] - box.min[2]);
+  EmitJson(o.json, Report(o, lm, box));
 }
 
 }  // namespace
@@ -81,7 +82,7 @@ void AddInfoCommand(CLI::App& app, GlobalOptions& global) {
       ->required()
       ->check(CLI::ExistingFile);
   AddMotionInputOptions(cmd, &o->input);
-  cmd->add_flag("--json", o->json, "Print one JSON object instead of text");
+  AddJsonOption(cmd, &o->json, "The report, instead of text on stdout,");
   cmd->callback([o, &global] { RunInfo(*o, global); });
 }
 

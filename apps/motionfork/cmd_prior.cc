@@ -8,52 +8,33 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <optional>
+#include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "bundle/prior_bundle.h"
 #include "commands.h"
-#include "config/config_paths.h"
-#include "config/protocol_config.h"
-#include "config/skeleton_config.h"
-#include "core/error.h"
-#include "dataset/dataset.h"
-#include "dataset_loading.h"
 #include "flags.h"
-#include "flow/pose_prior.h"
-#include "flow/prior_data.h"
-#include "flow/trainer.h"
-#include "io/file_util.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
+#include "pipeline/prior_score.h"
+#include "pipeline/prior_training.h"
 #include "torch_util/threads.h"
 
 namespace motionfork::app {
 namespace {
 
-namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
 
 constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
-constexpr const char* kCheckpointFile = "checkpoint.pt";
 
 std::atomic<bool> g_stop{false};
 extern "C" void OnSigint(int) { g_stop = true; }
-
-struct TrainOptions {
-  std::string protocol;
-  std::string data;
-  std::string out;
-  std::string config = "flow_prior";
-  std::string split_file;
-  bool restart = false;
-  int threads = 0;
-};
 
 struct ScoreOptions {
   std::string file;
   std::string model;
   MotionInputOptions input;
-  bool json = false;
+  std::string json;
   bool summary_only = false;
 };
 
@@ -66,60 +47,12 @@ struct SampleOptions {
   int steps = 1000;
 };
 
-std::string Fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), format, v);
-  return buf;
-}
-
-std::string JsonNumber(double v) { return std::isfinite(v) ? Fmt("%.6g", v) : "null"; }
-
-std::string JsonEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out;
-}
-
 // ---------------------------------------------------------------------------------------------
 // train
 
-void RunTrain(const TrainOptions& o, GlobalOptions& g) {
-  const std::string config_dir = ConfigDir(g.config_dir);
-  const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
-  const PriorConfig config = LoadFlowConfig(config_path);
-  const int threads = o.threads > 0 ? o.threads : DefaultThreads();
-  PinThreads(threads);
-
-  const fs::path out(o.out);
-  const fs::path checkpoint = out / kCheckpointFile;
-  const fs::path manifest = out / "prior.yaml";
-  if (o.restart) {
-    std::error_code ec;
-    fs::remove(checkpoint, ec);
-  } else if (!fs::exists(checkpoint) && fs::exists(manifest)) {
-    throw std::invalid_argument(
-        o.out +
-        " already holds a trained prior (prior.yaml) and no checkpoint to resume: pass "
-        "--restart to train it again, or choose another --out");
-  }
-
-  const ProtocolOptions protocol =
-      LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", o.protocol));
-  const SkeletonConfig skeleton =
-      LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", protocol.skeleton));
-  const Dataset ds = LoadDatasetWithProgress(protocol, skeleton, o.data, o.split_file, g);
-  const PriorData data = MakePriorData(ds, config.training);
-
-  PosePrior prior(skeleton.skeleton, config);
-  prior.set_skeleton_config(protocol.skeleton);
-  prior.mutable_summary().protocol = protocol.name;
-  prior.mutable_summary().fps = protocol.fps;
-  prior.mutable_summary().threads = threads;
-
-  const PriorTrainOptions& t = config.training;
+void PrintStart(const PosePrior& prior, const PriorData& data, const std::string& config_path,
+                const pipeline::PriorTrainingRequest& o) {
+  const PriorTrainOptions& t = prior.config().training;
   std::printf(
       "prior:     %d layers, %d reflections each, %s parameters, %d numbers per pose (%s)\n",
       prior.config().model.num_layers, prior.config().model.num_reflections,
@@ -127,7 +60,7 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   std::printf(
       "data:      %s, protocol %s: train %s frames (%s clips), held-out %s frames (%s "
       "training clips, %.0f%%), test %s frames",
-      o.data.c_str(), protocol.name.c_str(), WithThousands(data.train.size()).c_str(),
+      o.data.c_str(), prior.summary().protocol.c_str(), WithThousands(data.train.size()).c_str(),
       WithThousands(data.train_clips).c_str(), WithThousands(data.held_out.size()).c_str(),
       WithThousands(static_cast<long long>(data.held_out_clips.size())).c_str(),
       100 * t.held_out_share, WithThousands(data.test.size()).c_str());
@@ -140,51 +73,69 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
       "\ntraining:  %d epochs, batch %d, Adam lr %g (constant %d epochs, then linear), weight "
       "decay %g, seed %llu, %d thread%s\n",
       t.epochs, t.batch_size, t.learning_rate, t.constant_epochs, t.weight_decay,
-      static_cast<unsigned long long>(t.seed), threads, threads == 1 ? "" : "s");
+      static_cast<unsigned long long>(t.seed), o.threads, o.threads == 1 ? "" : "s");
   std::fflush(stdout);
+}
 
-  fs::create_directories(out);
-  g_stop = false;
-  auto previous = std::signal(SIGINT, OnSigint);
-  // Per-epoch bars on a terminal only: in a log the epoch lines say it all.
+// Per-epoch bars on a terminal only: in a log the epoch lines say it all.
+PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& checkpoint,
+                                 std::shared_ptr<std::unique_ptr<ProgressBar>> bar) {
   const bool bars = !g.quiet && isatty(fileno(stderr));
-  std::unique_ptr<ProgressBar> bar;
-  bool announced = false;
+  auto announced = std::make_shared<bool>(false);
   PriorTrainCallbacks callbacks;
   callbacks.stop_requested = [] { return g_stop.load(); };
-  callbacks.progress = [&](const PriorTrainProgress& p) {
-    if (!announced) {
-      announced = true;
-      if (p.epoch > 0) {
-        std::printf("resuming:  %s holds %d of %d epochs\n", checkpoint.c_str(), p.epoch, p.epochs);
-        std::fflush(stdout);
-      }
+  callbacks.progress = [=](const PriorTrainProgress& p) {
+    if (!*announced && p.epoch > 0) {
+      std::printf("resuming:  %s holds %d of %d epochs\n", checkpoint.c_str(), p.epoch, p.epochs);
+      std::fflush(stdout);
     }
+    *announced = true;
     if (!p.epoch_done) {
-      if (!bar) {
-        bar = std::make_unique<ProgressBar>(
+      if (!*bar) {
+        *bar = std::make_unique<ProgressBar>(
             "epoch " + std::to_string(p.epoch + 1) + "/" + std::to_string(p.epochs), bars);
       }
-      bar->Update(static_cast<double>(p.step) / p.steps_per_epoch,
-                  "NLL " + Fmt("%.3f", p.train_nll));
+      char nll[32];
+      std::snprintf(nll, sizeof(nll), "NLL %.3f", p.train_nll);
+      (*bar)->Update(static_cast<double>(p.step) / p.steps_per_epoch, nll);
       return;
     }
-    bar.reset();
+    bar->reset();
     std::printf("epoch %2d/%d  lr %.2e  train NLL %9.4f  held-out NLL %9.4f  (%s)\n", p.epoch + 1,
                 p.epochs, p.learning_rate, p.train_nll, p.held_out_nll,
                 Duration(p.epoch_seconds).c_str());
     std::fflush(stdout);
   };
-  PriorTrainOutcome outcome;
+  return callbacks;
+}
+
+void RunTrain(pipeline::PriorTrainingRequest o, GlobalOptions& g) {
+  o.config_dir = ConfigDir(g.config_dir);
+  o.cache_dir = CacheDir(g.cache_dir);
+  o.threads = o.threads > 0 ? o.threads : DefaultThreads();
+  PinThreads(o.threads);
+  StageBars loading(!g.quiet);
+  auto bar = std::make_shared<std::unique_ptr<ProgressBar>>();
+  pipeline::PriorTrainingCallbacks callbacks;
+  callbacks.loading = loading.Callback();
+  callbacks.started = [&](const PosePrior& prior, const PriorData& data, const std::string& path) {
+    loading.Finish();
+    PrintStart(prior, data, path, o);
+  };
+  callbacks.training =
+      EpochReports(g, (std::filesystem::path(o.out) / "checkpoint.pt").string(), bar);
+  g_stop = false;
+  auto previous = std::signal(SIGINT, OnSigint);
+  pipeline::PriorTrainingRun run;
   try {
-    outcome = TrainPosePrior(prior, data, checkpoint.string(), callbacks);
+    run = pipeline::TrainPriorBundle(o, callbacks);
   } catch (...) {
     std::signal(SIGINT, previous);
     throw;
   }
   std::signal(SIGINT, previous);
-  bar.reset();
-  if (!outcome.completed) {
+  bar->reset();
+  if (!run.completed) {
     std::printf(
         "interrupted: the checkpoint in %s keeps every finished epoch; run the same command "
         "to resume\n",
@@ -192,16 +143,7 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
     g.exit_code = kExitInterrupted;
     return;
   }
-  SavePosePrior(prior, o.out);
-  const PriorTrainingSummary& y = prior.summary();
-  std::string log = "epoch\tlearning_rate\ttrain_nll\theld_out_nll\n";
-  for (size_t e = 0; e < y.train_nll.size(); ++e) {
-    log += std::to_string(e + 1) + "\t" + Fmt("%.6g", PriorLearningRate(t, static_cast<int>(e))) +
-           "\t" + Fmt("%.6f", y.train_nll[e]) + "\t" + Fmt("%.6f", y.held_out_nll[e]) + "\n";
-  }
-  WriteFileAtomically((out / "train_log.tsv").string(), log);
-  std::error_code ec;
-  fs::remove(checkpoint, ec);  // the bundle holds everything; a re-run must say --restart
+  const PriorTrainingSummary& y = run.summary;
   std::printf(
       "done:      held-out NLL %.4f (median %.4f, 99th percentile %.4f), test NLL %.4f "
       "nats per pose; %s of training\n",
@@ -213,88 +155,39 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
 // ---------------------------------------------------------------------------------------------
 // score
 
-// The motion on the prior's skeleton: as stored, bound by index (.npy), or mapped through the
-// skeleton config the prior was trained with (e.g. a Bandai BVH of 22 joints onto 17).
-Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
-                       const std::string& config_dir) {
-  const Motion& m = lm.motion;
-  const Skeleton& want = prior.skeleton();
-  if (m.skeleton().SameStructure(want)) return m;
-  if (m.skeleton().is_anonymous() && m.num_joints() == want.num_joints() &&
-      m.skeleton().joint_name(0) == "j0") {
-    return Motion(prior.skeleton_ptr(), m.fps(), m.positions());
-  }
-  std::string by_name;  // why the joints do not map by name
-  {
-    // Named joints in another order (e.g. a CSV): re-ordered by name.
-    SkeletonConfig same;
-    same.source = same.skeleton = prior.skeleton_ptr();
-    try {
-      return ConformToSkeleton(m, same);
-    } catch (const std::invalid_argument& e) {
-      by_name = e.what();  // other names: try the training skeleton config below
-    }
-  }
-  if (!lm.skeleton_config && !prior.skeleton_config().empty()) {
-    std::optional<SkeletonConfig> sc;
-    try {
-      sc = LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", prior.skeleton_config()));
-    } catch (const std::exception&) {
-      // Not available here: the skeleton check below says what is expected.
-    }
-    if (sc && sc->skeleton->SameStructure(want)) {
-      try {
-        return ConformToSkeleton(m, *sc);
-      } catch (const std::invalid_argument&) {
-        // Not this skeleton's joints: reported below.
-      }
-    }
-  }
-  if (m.skeleton().is_anonymous() && m.skeleton().joint_name(0) != "j0") {
-    // Named joints without a tree (CSV): say which names are missing.
-    throw std::invalid_argument("the prior expects poses of skeleton '" + want.name() + "' (" +
-                                std::to_string(want.num_joints()) + " joints); " + by_name +
-                                " (pass --skeleton NAME to map the file onto a skeleton)");
-  }
-  prior.CheckSkeleton(m.skeleton());
-  return m;
+json ScoreJson(const ScoreOptions& o, const PosePrior& prior, const Motion& motion,
+               const pipeline::PriorScore& s) {
+  const int T = static_cast<int>(s.nll.size());
+  const bool known = std::isfinite(s.held_out_q99);
+  return {{"file", o.file},
+          {"model", o.model},
+          {"skeleton", prior.skeleton().name()},
+          {"frames", T},
+          {"fps", motion.fps()},
+          {"unit", "nats per pose"},
+          {"nll", s.nll},
+          {"summary",
+           {{"mean", s.mean},
+            {"median", s.median},
+            {"min", s.min},
+            {"best_frame", s.best_frame},
+            {"max", s.max},
+            {"worst_frame", s.worst_frame},
+            {"held_out_q50", s.held_out_q50},
+            {"held_out_q99", s.held_out_q99},
+            {"frames_above_held_out_q99", known ? json(s.above_q99) : json()}}}};
 }
 
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const PosePrior prior = LoadPosePrior(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
   const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
-  const Motion motion = OnPriorSkeleton(lm, prior, config_dir);
-  std::vector<double> nll = prior.LogProb(motion);
-  for (double& v : nll) v = -v;
-  const int T = static_cast<int>(nll.size());
-  std::vector<double> sorted = nll;
-  std::sort(sorted.begin(), sorted.end());
-  double mean = 0;
-  for (double v : nll) mean += v / T;
-  const double median = T % 2 ? sorted[T / 2] : 0.5 * (sorted[T / 2 - 1] + sorted[T / 2]);
-  const int worst = static_cast<int>(std::max_element(nll.begin(), nll.end()) - nll.begin());
-  const int best = static_cast<int>(std::min_element(nll.begin(), nll.end()) - nll.begin());
-  const double q99 = prior.summary().held_out_nll_q99;
-  int above = 0;
-  if (std::isfinite(q99))
-    above =
-        static_cast<int>(std::count_if(nll.begin(), nll.end(), [&](double v) { return v > q99; }));
-
-  if (o.json) {
-    std::string j = "{\"file\": \"" + JsonEscape(o.file) + "\", \"model\": \"" +
-                    JsonEscape(o.model) + "\", \"skeleton\": \"" +
-                    JsonEscape(prior.skeleton().name()) + "\", \"frames\": " + std::to_string(T) +
-                    ", \"fps\": " + JsonNumber(motion.fps()) +
-                    ", \"unit\": \"nats per pose\", \"nll\": [";
-    for (int t = 0; t < T; ++t) j += (t ? ", " : "") + JsonNumber(nll[t]);
-    j += "], \"summary\": {\"mean\": " + JsonNumber(mean) + ", \"median\": " + JsonNumber(median) +
-         ", \"min\": " + JsonNumber(sorted.front()) + ", \"best_frame\": " + std::to_string(best) +
-         ", \"max\": " + JsonNumber(sorted.back()) + ", \"worst_frame\": " + std::to_string(worst) +
-         ", \"held_out_q50\": " + JsonNumber(prior.summary().held_out_nll_q50) +
-         ", \"held_out_q99\": " + JsonNumber(q99) + ", \"frames_above_held_out_q99\": " +
-         (std::isfinite(q99) ? std::to_string(above) : std::string("null")) + "}}\n";
-    std::fputs(j.c_str(), stdout);
+  const Motion motion = pipeline::OnPriorSkeleton(lm, prior, config_dir);
+  const pipeline::PriorScore s = pipeline::ScorePoses(prior, motion);
+  const int T = static_cast<int>(s.nll.size());
+  const bool known = std::isfinite(s.held_out_q99);
+  if (o.json == "-") {
+    EmitJson("-", ScoreJson(o, prior, motion, s));
     return;
   }
   std::printf("file:      %s (%d frames at %.6g Hz)\n", o.file.c_str(), T, motion.fps());
@@ -305,27 +198,28 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
     std::printf("\n%6s %12s\n", "frame", "NLL");
     for (int t = 0; t < T; ++t) {
       std::printf(
-          "%6d %12.4f%s\n", t, nll[t],
-          std::isfinite(q99) && nll[t] > q99 ? "  above the 99th percentile of real poses" : "");
+          "%6d %12.4f%s\n", t, s.nll[t],
+          known && s.nll[t] > s.held_out_q99 ? "  above the 99th percentile of real poses" : "");
     }
     std::printf("\n");
   }
   std::printf(
       "NLL (nats per pose; lower = more plausible): mean %.4f, median %.4f, best %.4f "
       "(frame %d), worst %.4f (frame %d)\n",
-      mean, median, sorted.front(), best, sorted.back(), worst);
-  if (std::isfinite(q99)) {
+      s.mean, s.median, s.min, s.best_frame, s.max, s.worst_frame);
+  if (known) {
     std::printf(
         "real held-out poses score: median %.4f, 99th percentile %.4f; frames above it: "
         "%d of %d (%.1f%%)\n",
-        prior.summary().held_out_nll_q50, q99, above, T, 100.0 * above / T);
+        s.held_out_q50, s.held_out_q99, s.above_q99, T, 100.0 * s.above_q99 / T);
   }
+  EmitJson(o.json, ScoreJson(o, prior, motion, s));
 }
 
 // ---------------------------------------------------------------------------------------------
 // sample
 
-void RunSample(const SampleOptions& o, const GlobalOptions& g) {
+void RunSample(const SampleOptions& o, const GlobalOptions&) {
   FormatOfPath(o.output);  // fail on an unsupported extension before any work
   const PosePrior prior = LoadPosePrior(o.model);
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;
@@ -338,14 +232,8 @@ void RunSample(const SampleOptions& o, const GlobalOptions& g) {
       prior.skeleton().num_joints(), o.output.c_str());
 }
 
-}  // namespace
-
-void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
-  CLI::App* prior = app.add_subcommand(
-      "prior", "Pose prior: a normalizing flow on limb directions that scores and samples poses");
-  prior->require_subcommand(1);
-
-  auto t = std::make_shared<TrainOptions>();
+void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
+  auto t = std::make_shared<pipeline::PriorTrainingRequest>();
   CLI::App* train = prior->add_subcommand(
       "train", "Train a pose prior on single frames of a protocol's training split");
   train->footer(
@@ -374,7 +262,9 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
   train->add_flag("--restart", t->restart,
                   "Discard a checkpoint or trained prior in OUT and train from the start");
   train->callback([t, &global] { RunTrain(*t, global); });
+}
 
+void AddPriorScore(CLI::App* prior, GlobalOptions& global) {
   auto s = std::make_shared<ScoreOptions>();
   CLI::App* score = prior->add_subcommand(
       "score", "Per-frame negative log-likelihood of a motion under a prior, and a summary");
@@ -388,10 +278,12 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::ExistingFile);
   score->add_option("--model", s->model, "Prior bundle folder (holding prior.yaml)")->required();
   AddMotionInputOptions(score, &s->input);
-  score->add_flag("--json", s->json, "Print one JSON object (per-frame NLL and the summary)");
+  AddJsonOption(score, &s->json, "The per-frame NLL and the summary, instead of text,");
   score->add_flag("--summary-only", s->summary_only, "Text output without the per-frame table");
   score->callback([s, &global] { RunScore(*s, global); });
+}
 
+void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
   auto m = std::make_shared<SampleOptions>();
   CLI::App* sample = prior->add_subcommand("sample", "Draw poses from a prior into a motion file");
   sample->footer(
@@ -420,6 +312,17 @@ void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
     RequireArgument(m->output, "-o,--out");
     RunSample(*m, global);
   });
+}
+
+}  // namespace
+
+void AddPriorCommand(CLI::App& app, GlobalOptions& global) {
+  CLI::App* prior = app.add_subcommand(
+      "prior", "Pose prior: a normalizing flow on limb directions that scores and samples poses");
+  prior->require_subcommand(1);
+  AddPriorTrain(prior, global);
+  AddPriorScore(prior, global);
+  AddPriorSample(prior, global);
 }
 
 }  // namespace motionfork::app

@@ -7,6 +7,7 @@
 
 #include "app_common.h"
 #include "commands.h"
+#include "flags.h"
 #include "io/file_util.h"
 #include "io/prediction_file.h"
 #include "motion_options.h"
@@ -127,11 +128,12 @@ void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--out", o->out, "Output file: .png, .svg or .html")->required();
-  cmd->add_option("--samples", o->samples,
+  cmd->add_option("--count", o->samples,
                   "Samples shown: the first N (default 5 in a figure, all in the viewer)")
       ->check(CLI::Range(1, 1000000));
+  AddDeprecatedOption(cmd, "--samples", "--count", &o->samples);
   cmd->add_option("--pick", o->pick,
-                  "Samples shown, by index (e.g. --pick 0,3,7); overrides --samples")
+                  "Samples shown, by index (e.g. --pick 0,3,7); overrides --count")
       ->delimiter(',')
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--every", o->strip.every,

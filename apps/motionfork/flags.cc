@@ -7,19 +7,11 @@
 
 namespace motionfork::app {
 
-void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
-                         const std::string& new_spelling, std::string* target) {
-  cmd->add_option_function<std::string>(
-         old_flag,
-         [old_flag, new_spelling, target](const std::string& value) {
-           std::fprintf(stderr,
-                        "motionfork: note: %s is deprecated, write %s instead (the old spelling "
-                        "goes away in the next release)\n",
-                        old_flag.c_str(), new_spelling.c_str());
-           *target = value;
-         },
-         "Deprecated: " + new_spelling)
-      ->group("");  // hidden from --help
+void NoteDeprecated(const std::string& old_spelling, const std::string& new_spelling) {
+  std::fprintf(stderr,
+               "motionfork: note: %s is deprecated, write %s instead (the old spelling goes away "
+               "in the next release)\n",
+               old_spelling.c_str(), new_spelling.c_str());
 }
 
 void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,
@@ -46,10 +38,26 @@ void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& w
       ->type_name("[FILE]");
 }
 
-void EmitJson(const std::string& destination, const nlohmann::json& report) {
+namespace {
+
+// One line, with ", " and ": " between items (as the commands printed JSON before nlohmann).
+std::string OneLine(const nlohmann::ordered_json& j) {
+  if (!j.is_structured() || j.empty()) return j.dump();
+  std::string out = j.is_object() ? "{" : "[";
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (it != j.begin()) out += ", ";
+    if (j.is_object()) out += nlohmann::ordered_json(it.key()).dump() + ": ";
+    out += OneLine(it.value());
+  }
+  return out + (j.is_object() ? "}" : "]");
+}
+
+}  // namespace
+
+void EmitJson(const std::string& destination, const nlohmann::ordered_json& report) {
   if (destination.empty()) return;
   if (destination == "-") {
-    std::printf("%s\n", report.dump(2).c_str());
+    std::printf("%s\n", OneLine(report).c_str());
   } else {
     WriteFileAtomically(destination, report.dump(2) + "\n");
   }

@@ -8,10 +8,23 @@
 
 namespace motionfork::app {
 
-// A hidden option `old_flag` that sets *target like `new_spelling` does and prints a note on
-// stderr saying what to write instead (the old spelling goes away in the next release).
+// Prints on stderr that `old_spelling` is deprecated and what to write instead (the old spelling
+// goes away in the next release).
+void NoteDeprecated(const std::string& old_spelling, const std::string& new_spelling);
+
+// A hidden option `old_flag` that sets *target like `new_spelling` does and prints the note.
+template <typename T>
 void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
-                         const std::string& new_spelling, std::string* target);
+                         const std::string& new_spelling, T* target) {
+  cmd->add_option_function<T>(
+         old_flag,
+         [old_flag, new_spelling, target](const T& value) {
+           NoteDeprecated(old_flag, new_spelling);
+           *target = value;
+         },
+         "Deprecated: " + new_spelling)
+      ->group("");  // hidden from --help
+}
 
 // The motion file a subcommand reads, named by its first argument (MOTION); `old_flag` (e.g.
 // --history) is accepted for one release. Call RequireMotion(path) in the subcommand's callback.
@@ -26,7 +39,8 @@ void RequireArgument(const std::string& value, const std::string& name);
 // --json [FILE]: the report as JSON, written to FILE, or printed on stdout when FILE is '-' or
 // left out.
 void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what);
-// Prints (destination "-") or writes atomically (any other path) the report; "" = nothing.
-void EmitJson(const std::string& destination, const nlohmann::json& report);
+// Prints on one line (destination "-") or writes atomically, indented (any other path), the
+// report; "" = nothing.
+void EmitJson(const std::string& destination, const nlohmann::ordered_json& report);
 
 }  // namespace motionfork::app

@@ -160,3 +160,18 @@ TEST_CASE("predict --impute: a history with missing values is imputed, then fore
   CHECK(r.status == 2);
   CHECK_THAT(r.output, Contains("--mask needs --impute"));
 }
+
+TEST_CASE("ood: the header names the threshold, the motion first, --motion deprecated") {
+  const Models& models = SharedModels();
+  testing::TempDir dir;
+  WriteCsvMotion(dir.file("walk.csv"), testing::MakeWalkingMotion(15, 30.0, 101));
+  Run now = Motionfork("ood " + dir.file("walk.csv") + " --model " + models.hgvae + " --json -");
+  INFO(now.output);
+  CHECK(now.status == 0);
+  CHECK_THAT(now.output, Contains("out of distribution (threshold "));
+  CHECK_THAT(now.output, Contains("\"flagged\": 0"));
+  Run old = Motionfork("ood --model " + models.hgvae + " --motion " + dir.file("walk.csv"));
+  CHECK(old.status == 0);
+  CHECK_THAT(old.output, Contains("--motion is deprecated"));
+  CHECK_THAT(old.output, Contains("0 of 3 windows out of distribution"));
+}

@@ -1,0 +1,36 @@
+// What `motionfork train` sets up around TrainGenerator: the recipe recorded with the weights
+// (OUT/training.yaml) and the loss terms from other modules (angle ranges, pose prior).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/skeleton.h"
+#include "generator/model/training_options.h"
+#include "generator/training/losses.h"
+
+namespace motionfork {
+
+// The split a run trains on, as recorded: the split file's absolute path, or the protocol's own.
+std::string TrainingSplitName(const std::string& split_file);
+
+// OUT/training.yaml holds a header (the config's path, the split, what an --epochs override
+// changed; epochs 0 = none) and the config file as read. A folder that has trained epochs is
+// refused (FormatError) for another config or split: resuming would mix two recipes in one model.
+// Call before any data is read.
+void RecordTrainingConfig(const std::string& out, const std::string& config_path,
+                          const std::string& split_file, int epochs);
+
+// The angle-range and prior loss terms the config names, and what they read (copied into the
+// bundle: it describes itself). Relative prior paths are taken from the source tree's root
+// (config_dir/..) when they do not exist from the working directory.
+struct LossHookSources {
+  LossHooks hooks;
+  std::string constraints_path;  // "" = no angle loss
+  int constraints = 0;           // angles
+  std::string prior_dir;         // "" = no prior loss
+};
+LossHookSources MakeLossHooks(const GeneratorTrainConfig& config, const Skeleton& skeleton,
+                              const std::string& config_dir);
+
+}  // namespace motionfork

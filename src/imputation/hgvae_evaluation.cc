@@ -1,0 +1,134 @@
+#include "imputation/hgvae_evaluation.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include "imputation/occlusion.h"
+
+namespace motionfork {
+namespace {
+
+double Mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / v.size();
+}
+
+HgvaeLikelihood Likelihood(const HgvaeModel& model, const std::vector<float>& windows,
+                           uint64_t seed) {
+  const HgvaeWindowFigures f = model.Evaluate(windows, seed);
+  HgvaeLikelihood l{Mean(f.elbo), Mean(f.recon_mse), Mean(f.recon_mse_sampled)};
+  for (const auto& level : f.kl_levels) {
+    l.kl_levels.push_back(Mean(level));
+    l.kl_total += Mean(level);
+  }
+  l.posterior_score_mean = Mean(f.score);
+  l.joint_score_mean = Mean(f.joint_score);
+  return l;
+}
+
+// AUROC of both scores, clean vs degraded; flagged by the bundle's score.
+void OodTests(const HgvaeModel& model, const std::vector<float>& windows, uint64_t seed,
+              HgvaeEvaluation* out) {
+  const int count = out->windows;
+  const std::vector<double> clean = model.Score(windows);
+  const std::vector<double> clean_post = model.Score(windows, ImputeObjective::kPosterior);
+  const std::vector<double> clean_joint = model.Score(windows, ImputeObjective::kJoint);
+  std::vector<std::pair<std::string, std::vector<float>>> degraded;
+  for (double s : {0.005, 0.05, 0.5}) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "%.3g%% values -> mean", 100 * s);
+    degraded.emplace_back(name, ReplaceWithMean(model, windows, s, seed + 7));
+  }
+  degraded.emplace_back("bones x1.5", ScaleBones(model.skeleton(), windows, 1.5f));
+  degraded.emplace_back("bones x0.7", ScaleBones(model.skeleton(), windows, 0.7f));
+  degraded.emplace_back("shuffled frames", ShuffleFrames(windows, model.coords(), seed + 11));
+  int clean_flagged = 0;
+  for (double s : clean) clean_flagged += model.OutOfDistribution(s);
+  out->clean_flagged = double(clean_flagged) / count;
+  for (const auto& [name, w] : degraded) {
+    int flagged = 0;
+    for (double x : model.Score(w)) flagged += model.OutOfDistribution(x);
+    out->ood.push_back({name, Auroc(clean_joint, model.Score(w, ImputeObjective::kJoint)),
+                        Auroc(clean_post, model.Score(w, ImputeObjective::kPosterior)),
+                        double(flagged) / count});
+  }
+}
+
+// Forecasting from clean, mean-imputed and HG-VAE-imputed histories of protocol test windows.
+ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
+                               const HgvaeEvalOptions& o) {
+  const int T = model.window();
+  if (o.forecaster.t_his != T) {
+    throw std::invalid_argument("the forecaster's history is " +
+                                std::to_string(o.forecaster.t_his) +
+                                " frames, the HG-VAE's window " + std::to_string(T));
+  }
+  std::vector<const Clip*> test_clips;
+  for (int c : ds.ClipIndices(Split::kTest)) test_clips.push_back(&ds.clips[c]);
+  const TestSet ts = BuildTestSet(test_clips, ds.protocol);
+  const HistoryForecastProbe probe(ts, o.forecast_windows, o.k, o.forecaster);
+  const int H = probe.count(), J = ts.num_joints();
+  const std::vector<float> hist = probe.Histories();
+  ForecastingFigures f{o.forecaster.name, o.k, H, probe.Score(hist)};
+  const std::vector<Occlusion> settings = StandardOcclusions(model.skeleton());
+  for (size_t s = 0; s < settings.size(); ++s) {
+    const Occlusion& oc = settings[s];
+    const std::vector<uint8_t> mask =
+        oc.share > 0 ? RandomOcclusion(H, T * model.coords(), oc.share, o.seed + 99 + s)
+                     : JointOcclusion(H, T, J, oc.joints);
+    f.settings.push_back({oc.name, probe.Score(model.MeanImpute(hist, mask)),
+                          probe.Score(model.Impute(hist, mask, o.impute).windows)});
+    ReportProgress(o.progress, "forecasting", double(s + 1) / settings.size());
+  }
+  return f;
+}
+
+}  // namespace
+
+std::vector<float> HgvaeTestWindows(const Dataset& ds, int window, int limit) {
+  std::vector<float> all;
+  int count = 0;
+  for (int c : ds.ClipIndices(Split::kTest)) {
+    const std::vector<float> p = PoseVectorsWithoutRoot(ds.clips[c].motion);
+    const int N = 3 * (ds.clips[c].motion.num_joints() - 1), T = ds.clips[c].motion.num_frames();
+    for (int s = 0; s + window <= T; s += window, ++count) {
+      all.insert(all.end(), p.begin() + static_cast<size_t>(s) * N,
+                 p.begin() + static_cast<size_t>(s + window) * N);
+    }
+  }
+  if (count == 0) {
+    throw std::invalid_argument("no test clip is " + std::to_string(window) + " frames long");
+  }
+  if (count <= limit) return all;
+  const size_t per = all.size() / count;
+  std::vector<float> out;
+  for (int i = 0; i < limit; ++i) {
+    const size_t w = static_cast<size_t>(i) * count / limit;
+    out.insert(out.end(), all.begin() + w * per, all.begin() + (w + 1) * per);
+  }
+  return out;
+}
+
+HgvaeEvaluation EvaluateHgvae(const HgvaeModel& model, const Dataset& dataset,
+                              const HgvaeEvalOptions& o) {
+  const std::vector<float> windows = HgvaeTestWindows(dataset, model.window(), o.windows);
+  const HgvaeManifest& m = model.manifest();
+  HgvaeEvaluation e;
+  e.window_frames = model.window();
+  e.windows =
+      static_cast<int>(windows.size() / (static_cast<size_t>(e.window_frames) * model.coords()));
+  e.stochastic_levels = m.model.stochastic_levels == 0 ? static_cast<int>(m.model.levels.size())
+                                                       : m.model.stochastic_levels;
+  e.likelihood = Likelihood(model, windows, o.seed);
+  e.likelihood_only = o.likelihood_only;
+  if (o.likelihood_only) return e;
+  e.imputation = ImputationExperiment(
+      model, windows, StandardOcclusions(model.skeleton()), o.impute, o.seed,
+      [&o](int d, int t) { ReportProgress(o.progress, "imputation", double(d) / t); });
+  OodTests(model, windows, o.seed, &e);
+  if (o.forecaster.forecast) e.forecasting = Forecasting(model, dataset, o);
+  return e;
+}
+
+}  // namespace motionfork

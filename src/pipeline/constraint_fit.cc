@@ -1,0 +1,147 @@
+#include "pipeline/constraint_fit.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "config/config_paths.h"
+#include "config/constraint_config.h"
+#include "config/protocol_config.h"
+#include "config/skeleton_config.h"
+#include "constraints/checker.h"
+#include "dataset/dataset.h"
+
+namespace motionfork::pipeline {
+namespace {
+
+std::string Fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), format, v);
+  return buf;
+}
+
+std::string Thousands(long long n) {
+  std::string digits = std::to_string(n), out;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+// Words of text re-flowed into lines of at most `width` characters.
+std::string Wrap(const std::string& text, size_t width = 96) {
+  std::string out, line, word;
+  auto flush_word = [&] {
+    if (word.empty()) return;
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ') {
+      flush_word();
+    } else {
+      word += c;
+    }
+  }
+  flush_word();
+  return out + line + "\n";
+}
+
+// The held-out split, as a first look at how tight the ranges are.
+void MeasureTest(const Dataset& ds, const std::vector<int>& test, const FitOptions& fit,
+                 ConstraintFit* f) {
+  f->test_violations.assign(f->fitted->num_constraints(), 0);
+  for (int i : test) {
+    const CheckResult r = Check(*f->fitted, ds.clips[i].motion, fit.degeneracy);
+    f->test_frames += r.num_frames;
+    for (int t = 0; t < r.num_frames; ++t) {
+      bool bad = false;
+      for (int c = 0; c < r.num_constraints; ++c) {
+        const AngleStatus s = r.at(t, c);
+        if (IsViolation(s)) ++f->test_violations[c];
+        bad |= s != AngleStatus::kInside;
+      }
+      f->test_invalid += bad;
+    }
+  }
+}
+
+std::string Header(const ConstraintFitRequest& o, const ConstraintFit& f,
+                   const std::string& skeleton_name, size_t train_clips, size_t test_clips) {
+  const std::string& skeleton = f.protocol.skeleton;
+  const FitOptions& fit = o.fit;
+  // Shipped names are shown as the file in the source tree, paths as given.
+  const std::string shown =
+      std::filesystem::is_regular_file(o.constraints.empty() ? std::string() : o.constraints)
+          ? o.constraints
+          : "configs/constraints/" + (o.constraints.empty() ? skeleton : o.constraints) + ".yaml";
+  std::string about =
+      "Definitions: " + shown +
+      " (re-running the command refits its ranges). Fitted on protocol '" + f.protocol.name +
+      "', train split: " + Thousands(train_clips) + " clips, " + Thousands(f.train_frames) +
+      " frames. Each range: percentiles " + Fmt("%g", fit.low_percentile) + " / " +
+      Fmt("%g", fit.high_percentile) +
+      " of the angle over those frames (left and right pooled), widened by " +
+      Fmt("%g", fit.margin_deg) + " degrees" +
+      (fit.round_deg > 0 ? ", rounded outwards to " + Fmt("%g", fit.round_deg) + " degrees" : "") +
+      ".";
+  if (f.test_frames > 0) {
+    about += " Held-out test split: " + Thousands(test_clips) + " clips, " +
+             Thousands(f.test_frames) + " frames, " +
+             Fmt("%.3f", 100.0 * f.test_invalid / f.test_frames) + "% of them outside some range.";
+  }
+  return "Angle-range constraints for the " + skeleton_name +
+         " skeleton. Ranges FITTED from data by:\n  " + o.command_line + "\n" + Wrap(about) +
+         "Format: configs/constraints/README.md.";
+}
+
+}  // namespace
+
+ConstraintFit FitConstraints(const ConstraintFitRequest& o) {
+  Validate(o.fit);
+  ConstraintFit f;
+  f.protocol = LoadProtocolConfig(ResolveConfigPath(o.config_dir, "protocols", o.protocol));
+  const SkeletonConfig skeleton =
+      LoadSkeletonConfig(ResolveConfigPath(o.config_dir, "skeletons", f.protocol.skeleton));
+  const std::string definitions = ResolveConfigPath(
+      o.config_dir, "constraints", o.constraints.empty() ? f.protocol.skeleton : o.constraints);
+  ConstraintLoadOptions load_options;
+  load_options.require_ranges = false;
+  f.definitions = LoadConstraintConfig(definitions, load_options);
+  ConstraintBuildOptions build_options;
+  build_options.require_ranges = false;
+  // Bind before the (long) dataset load, so a bad definition fails at once.
+  const ConstraintSet set = ConstraintSet::Build(f.definitions, *skeleton.skeleton, build_options);
+
+  DatasetLoadOptions load{o.cache_dir, o.split_file, [&](const LoadProgress& p) {
+                            ReportProgress(o.progress, "loading " + f.protocol.name, p.fraction,
+                                           p.detail);
+                          }};
+  const Dataset ds = LoadDataset(f.protocol, skeleton, o.data, load);
+  const std::vector<int> train = ds.ClipIndices(Split::kTrain), test = ds.ClipIndices(Split::kTest);
+  if (train.empty()) {
+    throw std::invalid_argument("no training clips in " + o.data + " under protocol '" +
+                                f.protocol.name + "': nothing to fit");
+  }
+  RangeFitter fitter(set, o.fit);
+  for (size_t i = 0; i < train.size(); ++i) {
+    fitter.Add(ds.clips[train[i]].motion);
+    ReportProgress(o.progress, "measuring angles", double(i + 1) / train.size(),
+                   ds.clips[train[i]].name);
+  }
+  f.ranges = fitter.Fit();
+  f.train_frames = fitter.frames();
+  const ConstraintSetSpec fitted = WithFittedRanges(f.definitions, f.ranges);
+  f.fitted = ConstraintSet::Build(fitted, *skeleton.skeleton);
+  MeasureTest(ds, test, o.fit, &f);
+  f.yaml = FormatConstraintConfig(
+      fitted, Header(o, f, skeleton.skeleton->name(), train.size(), test.size()));
+  return f;
+}
+
+}  // namespace motionfork::pipeline
