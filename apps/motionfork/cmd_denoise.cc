@@ -11,7 +11,7 @@
 #include "core/motion_noise.h"
 #include "dataset_loading.h"
 #include "denoise/denoise_metrics.h"
-#include "denoise/dvae_evaluation.h"
+#include "denoise/training/dvae_evaluation.h"
 #include "denoise/dvae_model.h"
 #include "dvae_commands.h"
 #include "flags.h"

@@ -10,7 +10,7 @@
 #include "config/protocol_config.h"
 #include "config/skeleton_config.h"
 #include "dataset_loading.h"
-#include "denoise/dvae_training.h"
+#include "denoise/training/dvae_training.h"
 #include "dvae_commands.h"
 
 namespace motionfork::app {

@@ -11,7 +11,7 @@
 #include "config/skeleton_config.h"
 #include "dataset_loading.h"
 #include "hgvae_commands.h"
-#include "imputation/hgvae_training.h"
+#include "imputation/training/hgvae_training.h"
 
 namespace motionfork::app {
 namespace {

@@ -12,7 +12,7 @@
 #include "dataset_loading.h"
 #include "flags.h"
 #include "hgvae_commands.h"
-#include "imputation/hgvae_evaluation.h"
+#include "imputation/training/hgvae_evaluation.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
 #include "io/motion_file.h"

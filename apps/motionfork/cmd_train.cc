@@ -3,6 +3,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "bundle/generator_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"

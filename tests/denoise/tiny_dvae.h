@@ -6,7 +6,7 @@
 #include <string>
 
 #include "denoise/dvae_options.h"
-#include "denoise/dvae_training.h"
+#include "denoise/training/dvae_training.h"
 
 namespace motionfork::testing {
 

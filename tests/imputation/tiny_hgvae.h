@@ -5,7 +5,7 @@
 #include <string>
 
 #include "imputation/hgvae_options.h"
-#include "imputation/hgvae_training.h"
+#include "imputation/training/hgvae_training.h"
 
 namespace motionfork::testing {
 

@@ -1,4 +1,4 @@
-#include "denoise/dvae_training.h"
+#include "denoise/training/dvae_training.h"
 
 #include <algorithm>
 #include <chrono>

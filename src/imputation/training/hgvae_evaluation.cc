@@ -1,4 +1,4 @@
-#include "imputation/hgvae_evaluation.h"
+#include "imputation/training/hgvae_evaluation.h"
 
 #include <cstdio>
 #include <stdexcept>

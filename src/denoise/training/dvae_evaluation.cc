@@ -1,4 +1,4 @@
-#include "denoise/dvae_evaluation.h"
+#include "denoise/training/dvae_evaluation.h"
 
 #include <algorithm>
 #include <cmath>

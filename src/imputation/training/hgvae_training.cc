@@ -1,4 +1,4 @@
-#include "imputation/hgvae_training.h"
+#include "imputation/training/hgvae_training.h"
 
 #include <algorithm>
 #include <chrono>
