@@ -12,9 +12,9 @@
 #include "dataset_loading.h"
 #include "flags.h"
 #include "hgvae_commands.h"
-#include "imputation/training/hgvae_evaluation.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
+#include "imputation/training/hgvae_evaluation.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
 
