@@ -9,17 +9,14 @@
 //   panel    kernels::MatMul vs LibTorch's mm (OpenBLAS) into a preallocated output, [M, 256] x
 //            [256, 256] at M = 800 (50 futures x 16 nodes, inference) and M = 25,600 (16 histories
 //            x 100 futures x 16 nodes, a training step's hidden layer); the portable MatMul too
-//   weight   WeightProduct forward + backward (x W and g W^T by the kernel) vs mm with autograd,
-//            M = 25,600
-//   nodemix  NodeMix forward + backward, A [16, 16] x S [16, 1600 x 256], vs mm with autograd
-//   bntanh   BatchNormTanh forward + backward on [16, 1600, 256], AVX-512 vs portable kernels
 //   tanh     kernels::Tanh on 800 x 256 floats, AVX-512 vs portable
 //   mixrows  kernels::MixRows (graph mix + batch norm + tanh + residual) for 50 samples of a
 //            hidden layer (16 nodes, 256 features), AVX-512 vs portable
 //   fused    50 futures of one history at GSPS's Human3.6M sizes: FusedGenerator on AVX-512 vs on
 //            portable kernels vs the LibTorch GeneratorNet (what MOTIONFORK_FAST_GENERATOR=0 runs)
 // For each, the kernel's margin: (alternative's median / kernel's median - 1); the issue removes a
-// kernel that does not beat its alternative by more than 10%.
+// kernel that does not beat its alternative by more than 10% (so went the node mix, the training
+// weight product and the AVX-512 batch norm + tanh: BENCHMARKS.md, "Redesign A/B").
 #include <torch/torch.h>
 
 #include <algorithm>
@@ -100,7 +97,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     if (!std::strcmp(argv[i], "--help")) {
       std::printf(
-          "bench_products [--rounds R] [--only panel|weight|nodemix|bntanh|tanh|mixrows|fused]:\n"
+          "bench_products [--rounds R] [--only panel|tanh|mixrows|fused]:\n"
           "interleaved A/B of each AVX-512 kernel against its replacement, one thread\n");
       return 0;
     }
@@ -131,50 +128,6 @@ int main(int argc, char** argv) {
           {"portable panel kernel", matmul, true}},
          rounds_or(M < 1000 ? 301 : 15), 2.0 * M * K * H / 1e9);
     }
-  }
-  const int64_t B = 1600, M = N * B;  // a training step: 16 histories x 100 futures
-  if (Want(only, "weight")) {
-    const torch::Tensor x = torch::randn({M, K}), g = torch::randn({M, H});
-    auto product = [&](bool kernel) {
-      torch::Tensor xi = x.detach().requires_grad_(true), wi = w.detach().requires_grad_(true);
-      (kernel ? WeightProduct(xi, wi) : xi.mm(wi)).backward(g);
-    };
-    AB("training weight product [25600, 256] x [256, 256], forward + backward (3 products)",
-       {{"WeightProduct (AVX-512 x W, g W^T; x^T g by mm)", [&] { product(true); }},
-        {"LibTorch mm with autograd", [&] { product(false); }}},
-       rounds_or(15), 3 * 2.0 * M * K * H / 1e9);
-  }
-  if (Want(only, "nodemix")) {
-    const torch::Tensor a = torch::randn({N, N}) * 0.25, x = torch::randn({N, B, H}),
-                        g = torch::randn({N, B, H});
-    auto mix = [&] {
-      torch::Tensor ai = a.detach().requires_grad_(true), xi = x.detach().requires_grad_(true);
-      NodeMix(ai, xi).backward(g);
-    };
-    auto forward = [&] {
-      torch::NoGradGuard no_grad;
-      NodeMix(a, x);
-    };
-    AB("node mix [16, 16] x [16, 1600 x 256], forward",
-       {{"AVX-512 node mix kernel", forward}, {"LibTorch mm (OpenBLAS)", forward, true}},
-       rounds_or(21));
-    AB("node mix, forward + backward (A x, A^T g, g x^T)",
-       {{"AVX-512 node mix kernels", mix}, {"LibTorch mm with autograd", mix, true}},
-       rounds_or(15));
-  }
-  if (Want(only, "bntanh")) {
-    const torch::Tensor x = torch::randn({N, B, H}), gamma = torch::rand({N, 1, H}) + 0.5,
-                        beta = torch::randn({N, 1, H}) * 0.1, bias = torch::randn({H}) * 0.1,
-                        g = torch::randn({N, B, H});
-    auto run = [&] {
-      torch::Tensor xi = x.detach().requires_grad_(true), gi = gamma.detach().requires_grad_(true),
-                    bi = beta.detach().requires_grad_(true);
-      torch::Tensor mean, var;
-      BatchNormTanh(xi, gi, bi, 1e-5, &mean, &var, bias).backward(g);
-    };
-    AB("batch norm + tanh [16, 1600, 256], forward + backward",
-       {{"AVX-512 kernels", run}, {"portable kernels (Eigen + portable tanh)", run, true}},
-       rounds_or(15));
   }
   if (Want(only, "tanh")) {
     std::vector<float> v(800 * 256);

@@ -170,67 +170,6 @@ TEST_CASE("fused batch norm + tanh matches the unfused LibTorch ops, values and 
   CHECK(torch::allclose(ScaleShiftTanh(x0, s, sh), torch::tanh(x0 * s + sh), 1e-6, 1e-6));
 }
 
-TEST_CASE("node mix kernel matches the matrix product, values and gradients") {
-  torch::manual_seed(9);
-  // Columns below, at and across the kernel's 64-column steps (and over several threads' ranges).
-  const std::vector<int64_t> shape =
-      GENERATE(std::vector<int64_t>{3, 1, 7}, std::vector<int64_t>{16, 4, 16},
-               std::vector<int64_t>{5, 300, 33});
-  const bool portable = GENERATE(false, true);
-  INFO("portable " << portable << ", shape " << c10::str(shape));
-  kernels::UsePortableKernels(portable);
-  const int64_t N = shape[0];
-  const torch::Tensor a0 = torch::randn({N, N}), x0 = torch::randn(shape);
-  const torch::Tensor w = torch::randn(shape);  // weighs each output
-  torch::Tensor a = a0.clone().requires_grad_(true), x = x0.clone().requires_grad_(true);
-  const torch::Tensor y = NodeMix(a, x);
-  (y * w).sum().backward();
-  torch::Tensor ra = a0.clone().requires_grad_(true), rx = x0.clone().requires_grad_(true);
-  const torch::Tensor r = ra.mm(rx.view({N, -1})).view(shape);
-  (r * w).sum().backward();
-  kernels::UsePortableKernels(false);
-  CHECK(torch::allclose(y, r, 1e-5, 1e-5));
-  CHECK(torch::allclose(a.grad(), ra.grad(), 1e-4, 1e-4));
-  CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-5));
-}
-
-TEST_CASE("weight product kernel matches the matrix product, values and gradients") {
-  torch::manual_seed(10);
-  // Rows past the kernel's threshold (4,096) and not a multiple of its 8-row tiles, widths of
-  // whole 48-column panels and narrower ones; an output width the kernel leaves to LibTorch (not a
-  // multiple of 16), and too few rows for it.
-  const std::vector<int64_t> shape =
-      GENERATE(std::vector<int64_t>{4101, 16, 48}, std::vector<int64_t>{4203, 64, 32},
-               std::vector<int64_t>{5000, 30, 256}, std::vector<int64_t>{4100, 256, 30},
-               std::vector<int64_t>{17, 32, 64});
-  const bool portable = GENERATE(false, true);
-  INFO("portable " << portable << ", rows, in, out " << c10::str(shape));
-  kernels::UsePortableKernels(portable);
-  const torch::Tensor x0 = torch::randn({shape[0], shape[1]}),
-                      w0 = torch::randn({shape[1], shape[2]});
-  const torch::Tensor weigh = torch::randn({shape[0], shape[2]});  // weighs each output
-  torch::Tensor x = x0.clone().requires_grad_(true), w = w0.clone().requires_grad_(true);
-  const torch::Tensor y = WeightProduct(x, w);
-  (y * weigh).sum().backward();
-  torch::Tensor rx = x0.clone().requires_grad_(true), rw = w0.clone().requires_grad_(true);
-  const torch::Tensor r = rx.mm(rw);
-  (r * weigh).sum().backward();
-  kernels::UsePortableKernels(false);
-  CHECK(torch::allclose(y, r, 1e-5, 1e-4));
-  CHECK(torch::allclose(x.grad(), rx.grad(), 1e-5, 1e-4));
-  CHECK(torch::allclose(w.grad(), rw.grad(), 1e-5, 1e-4));
-  // Where the kernel runs, a row's product does not depend on the rows around it (bit for bit).
-  // Shapes (and CPUs) left to LibTorch are not held to it: OpenBLAS's Haswell kernels round a row
-  // differently by its place in the batch.
-  if (kernels::ActiveBackend() == kernels::Backend::kAvx512 && shape[0] > 4099 &&
-      shape[2] % 16 == 0) {
-    torch::NoGradGuard no_grad;
-    const torch::Tensor all = WeightProduct(x0, w0);
-    CHECK(torch::equal(WeightProduct(x0.slice(0, 0, 4099), w0).slice(0, 4098),
-                       all.slice(0, 4098, 4099)));
-  }
-}
-
 TEST_CASE("generator in eval mode gives the same futures through fused and plain paths") {
   torch::manual_seed(6);
   GeneratorNet net(Tiny(), TwoParts());

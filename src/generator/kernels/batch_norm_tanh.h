@@ -1,8 +1,9 @@
 // Kernels for the generator's training-mode hidden-layer activation: batch norm over the samples
-// of one graph node (statistics per feature) followed by tanh, forward and backward. The AVX-512
-// backend makes a few passes over one node's [B, H] slab (1.6 MB at the sizes: it stays in
-// the core's L2 between passes); the portable one (Eigen) runs anywhere (backend.h). No LibTorch;
-// the caller (model/fused_ops.cc) loops over nodes.
+// of one graph node (statistics per feature) followed by tanh, forward and backward, in a few
+// passes over one node's [B, H] slab (1.6 MB at the sizes: it stays in the core's L2
+// between passes). Portable code only: an AVX-512 version gained 6.9%, below the 10% a kernel must
+// earn (BENCHMARKS.md, "Redesign A/B"). No LibTorch; the caller (model/fused_ops.cc) loops over
+// nodes.
 #pragma once
 
 #include <cstdint>

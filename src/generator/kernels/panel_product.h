@@ -4,7 +4,6 @@
 // sample's rows are still in the core's cache.
 //
 // Layout: sample-major [B, N, F]: sample b's N node rows are contiguous (row n at (b * N + n) * F).
-// MatMul also serves training's products x W and g W^T (model/fused_ops.h, WeightProduct).
 // MatMul and MixRows run the AVX-512 backend or the portable one (backend.h); both run anywhere.
 #pragma once
 

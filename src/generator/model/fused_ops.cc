@@ -4,19 +4,12 @@
 
 #include <algorithm>
 
-#include "generator/kernels/backend.h"
 #include "generator/kernels/batch_norm_tanh.h"
-#include "generator/kernels/node_mix.h"
-#include "generator/kernels/panel_product.h"
 #include "generator/kernels/tanh.h"
 
 namespace motionfork {
 
 namespace {
-
-// The AVX-512 kernels without a portable twin here (node mix, weight product) run only then;
-// otherwise LibTorch's matrix product does their work.
-bool UseAvx512() { return kernels::ActiveBackend() == kernels::Backend::kAvx512; }
 
 using torch::autograd::AutogradContext;
 using torch::autograd::variable_list;
@@ -89,96 +82,7 @@ class BatchNormTanhFn : public torch::autograd::Function<BatchNormTanhFn> {
   }
 };
 
-// y = A x on node-major [N, C] views, columns split over the threads.
-torch::Tensor MixNodes(const torch::Tensor& a, const torch::Tensor& x) {
-  const int64_t N = x.size(0), C = x.numel() / N;
-  torch::Tensor y = torch::empty_like(x);
-  const float *pa = a.data_ptr<float>(), *px = x.data_ptr<float>();
-  float* py = y.data_ptr<float>();
-  at::parallel_for(0, C, 4096,
-                   [&](int64_t j0, int64_t j1) { kernels::NodeMix(pa, N, px, C, j0, j1, py); });
-  return y;
-}
-
-class NodeMixFn : public torch::autograd::Function<NodeMixFn> {
- public:
-  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& a_in,
-                               const torch::Tensor& x_in) {
-    const torch::Tensor a = a_in.contiguous(), x = x_in.contiguous();
-    ctx->save_for_backward({a, x});
-    return MixNodes(a, x);
-  }
-  static variable_list backward(AutogradContext* ctx, variable_list grad) {
-    const auto saved = ctx->get_saved_variables();
-    const torch::Tensor &a = saved[0], &x = saved[1], g = grad[0].contiguous();
-    const int64_t N = x.size(0);
-    const torch::Tensor a_t = a.t().contiguous();
-    if (!ctx->needs_input_grad(0)) return {torch::Tensor(), MixNodes(a_t, g)};
-    // Both in one pass over g and x; dA's sums per thread's column range, added up after.
-    const int64_t C = x.numel() / N, ranges = std::max<int64_t>(1, at::get_num_threads());
-    const int64_t width = ((C + ranges - 1) / ranges + 63) / 64 * 64;
-    torch::Tensor gx = torch::empty_like(x), partial = torch::zeros({ranges, N, N});
-    const float *pa = a_t.data_ptr<float>(), *pg = g.data_ptr<float>(), *px = x.data_ptr<float>();
-    float *pgx = gx.data_ptr<float>(), *pp = partial.data_ptr<float>();
-    at::parallel_for(0, ranges, 1, [&](int64_t r0, int64_t r1) {
-      for (int64_t r = r0; r < r1; ++r) {
-        const int64_t j0 = std::min(C, r * width), j1 = std::min(C, j0 + width);
-        if (j0 < j1) kernels::NodeMixBackward(pa, N, pg, px, C, j0, j1, pgx, pp + r * N * N);
-      }
-    });
-    return {partial.sum(0), ctx->needs_input_grad(1) ? gx : torch::Tensor()};
-  }
-};
-
-// Fewer rows do not pay for packing W (inference's small products stay with LibTorch's mm).
-constexpr int64_t kMinKernelRows = 4096;
-
-// x [M, K] w [K, H] with kernels::MatMul, rows split over the threads; LibTorch's mm unless H is a
-// multiple of 16 (the kernel writes rows padded to one). The caller has checked the CPU, the type
-// and the rows (the same for x W and g W^T).
-torch::Tensor PanelProduct(const torch::Tensor& x_in, const torch::Tensor& w_in) {
-  if (w_in.size(1) % 16 != 0) return x_in.mm(w_in);
-  const torch::Tensor x = x_in.contiguous(), w = w_in.contiguous();
-  const int64_t M = x.size(0), K = x.size(1), H = w.size(1);
-  const kernels::PackedWeight packed = kernels::PackWeight(w.data_ptr<float>(), K, H);
-  torch::Tensor z = torch::empty({M, H});
-  const float* px = x.data_ptr<float>();
-  float* pz = z.data_ptr<float>();
-  at::parallel_for(0, M, 768, [&](int64_t r0, int64_t r1) {
-    kernels::MatMul(px + r0 * K, r1 - r0, K, packed, pz + r0 * H);
-  });
-  return z;
-}
-
-class WeightProductFn : public torch::autograd::Function<WeightProductFn> {
- public:
-  static torch::Tensor forward(AutogradContext* ctx, const torch::Tensor& x,
-                               const torch::Tensor& w) {
-    ctx->save_for_backward({x, w});
-    return PanelProduct(x, w);
-  }
-  static variable_list backward(AutogradContext* ctx, variable_list grad) {
-    const auto saved = ctx->get_saved_variables();
-    const torch::Tensor &x = saved[0], &w = saved[1], g = grad[0].contiguous();
-    return {ctx->needs_input_grad(0) ? PanelProduct(g, w.t()) : torch::Tensor(),
-            ctx->needs_input_grad(1) ? x.t().mm(g) : torch::Tensor()};
-  }
-};
-
 }  // namespace
-
-torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w) {
-  if (!UseAvx512() || x.size(0) < kMinKernelRows || x.scalar_type() != torch::kFloat)
-    return x.mm(w);
-  return WeightProductFn::apply(x, w);
-}
-
-torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x) {
-  if (!UseAvx512() || x.scalar_type() != torch::kFloat) {
-    return adjacency.mm(x.reshape({x.size(0), -1})).view(x.sizes());
-  }
-  return NodeMixFn::apply(adjacency, x);
-}
 
 torch::Tensor FusedTanh(const torch::Tensor& x) { return FusedTanhFn::apply(x); }
 

@@ -21,17 +21,6 @@ torch::Tensor BatchNormTanh(const torch::Tensor& x, const torch::Tensor& gamma,
                             const torch::Tensor& beta, double eps, torch::Tensor* mean,
                             torch::Tensor* var, const torch::Tensor& bias = {});
 
-// A x for node-major x [N, ...] (the graph convolution's node mix, N x N adjacency): one pass
-// over x with the AVX-512 kernel (kernels/node_mix.h) where that backend runs (kernels/backend.h),
-// else a matrix product; differentiable.
-torch::Tensor NodeMix(const torch::Tensor& adjacency, const torch::Tensor& x);
-
-// x [M, K] times w [K, H] through the packed-panel kernel of kernels/panel_product.h (rows split
-// over the threads); backward: dx = g w^T the same way, dw = x^T g by LibTorch's product
-// (OpenBLAS). LibTorch's product when H (or, for dx, K) is not a multiple of 16, for fewer than
-// 4,096 rows (packing W would cost more than it saves) or without AVX-512.
-torch::Tensor WeightProduct(const torch::Tensor& x, const torch::Tensor& w);
-
 // Inference: tanh(x * scale + shift), scale/shift [N, 1, H], x [N, B, H]; no gradient.
 torch::Tensor ScaleShiftTanh(const torch::Tensor& x, const torch::Tensor& scale,
                              const torch::Tensor& shift);

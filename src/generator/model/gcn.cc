@@ -26,10 +26,11 @@ torch::Tensor GraphConvImpl::forward(const torch::Tensor& x, const torch::Tensor
 
 torch::Tensor GraphConvImpl::Mix(const torch::Tensor& x, const torch::Tensor& z) {
   const int64_t N = x.size(0), B = x.size(1), out = weight.size(1);
-  torch::Tensor support = WeightProduct(x.reshape({N * B, x.size(2)}), weight).view({N, B, out});
+  torch::Tensor support = x.reshape({N * B, x.size(2)}).mm(weight).view({N, B, out});
   // In place: the product's backward pass does not need its result.
   if (z.defined()) support.add_(z.mm(shared_weight).unsqueeze(0));
-  return NodeMix(adjacency, support);
+  // The node mix A x over node-major rows: one product of [N, N] and [N, B * out].
+  return adjacency.mm(support.view({N, -1})).view({N, B, out});
 }
 
 NodeBatchNormImpl::NodeBatchNormImpl(int64_t nodes, int64_t features, double momentum_, double eps_)
