@@ -177,9 +177,13 @@ Prediction ReadPrediction(const std::string& path) {
     p.history_validity = ValidityFromJson(j["history_validity"], json_path);
   if (j.contains("imputation")) {
     const json& im = j["imputation"];
-    p.imputation =
-        HistoryImputation{im.value("model", std::string()), im.value("missing_values", 0),
-                          im.value("score_before", 0.0), im.value("score_after", 0.0)};
+    p.imputation = HistoryImputation{im.value("model", std::string()),
+                                     im.value("missing_values", 0),
+                                     im.value("score_before", 0.0),
+                                     im.value("score_after", 0.0),
+                                     std::string(),
+                                     0.0,
+                                     0.0};
   }
   if (j.contains("denoising")) {
     const json& dn = j["denoising"];

@@ -42,11 +42,13 @@ HistoryImputation ImputeHistory(const HgvaeModel& hg, const std::string& dir,
   std::copy(r.motion.positions().begin(), r.motion.positions().end(),
             pos.begin() + start * frame_values);
   *history = Motion(history->skeleton_ptr(), history->fps(), std::move(pos));
-  HistoryImputation out{dir, r.missing_values, r.score_before.at(0), r.score_after.at(0)};
-  out.score_kind = ToString(hg.manifest().ood_score);
-  out.training_mean = hg.manifest().score_mean;
-  out.training_std = hg.manifest().score_std;
-  return out;
+  return HistoryImputation{dir,
+                           r.missing_values,
+                           r.score_before.at(0),
+                           r.score_after.at(0),
+                           ToString(hg.manifest().ood_score),
+                           hg.manifest().score_mean,
+                           hg.manifest().score_std};
 }
 
 HistoryDenoising DenoiseHistory(const DvaeModel& dv, const std::string& dir,

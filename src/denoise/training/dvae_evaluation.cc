@@ -70,7 +70,7 @@ ForecastingFigures Forecasting(const DvaeModel& model, const Dataset& ds,
     }
     return h;
   };
-  ForecastingFigures f{fc.name, o.k, probe.count(), probe.Score(histories(contexts))};
+  ForecastingFigures f{fc.name, o.k, probe.count(), probe.Score(histories(contexts)), {}};
   for (size_t n = 0; n < o.noises.size(); ++n) {
     const Sequences noisy = Noisy(contexts, o.noises[n], o.seed + 7777 + n, J);
     f.settings.push_back({o.noises[n], probe.Score(histories(noisy)),

@@ -17,7 +17,7 @@ double Mean(const std::vector<double>& v) {
 HgvaeLikelihood Likelihood(const HgvaeModel& model, const std::vector<float>& windows,
                            uint64_t seed) {
   const HgvaeWindowFigures f = model.Evaluate(windows, seed);
-  HgvaeLikelihood l{Mean(f.elbo), Mean(f.recon_mse), Mean(f.recon_mse_sampled)};
+  HgvaeLikelihood l{Mean(f.elbo), Mean(f.recon_mse), Mean(f.recon_mse_sampled), {}};
   for (const auto& level : f.kl_levels) {
     l.kl_levels.push_back(Mean(level));
     l.kl_total += Mean(level);
@@ -70,7 +70,7 @@ ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
   const HistoryForecastProbe probe(ts, o.forecast_windows, o.k, o.forecaster);
   const int H = probe.count(), J = ts.num_joints();
   const std::vector<float> hist = probe.Histories();
-  ForecastingFigures f{o.forecaster.name, o.k, H, probe.Score(hist)};
+  ForecastingFigures f{o.forecaster.name, o.k, H, probe.Score(hist), {}};
   const std::vector<Occlusion> settings = StandardOcclusions(model.skeleton());
   for (size_t s = 0; s < settings.size(); ++s) {
     const Occlusion& oc = settings[s];
