@@ -14,7 +14,6 @@ namespace {
 
 struct PredictOptions {
   pipeline::PredictFiles files;
-  std::vector<std::string> fix;
   bool no_repair = false;
   std::string out;
 };
@@ -53,7 +52,6 @@ void PrintValidity(const Prediction& p, const pipeline::PredictNotes& notes) {
 
 void RunPredict(PredictOptions o, const GlobalOptions& g) {
   o.files.input.config_dir = ConfigDir(g.config_dir);
-  o.files.request.fixed_parts = o.fix;
   o.files.request.repair = !o.no_repair;
   pipeline::PredictNotes notes;
   const Prediction p = pipeline::PredictFromFiles(o.files, &notes);
@@ -85,7 +83,7 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("-k", o->files.request.k, "Futures to predict (default 50)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--fix", o->fix,
+  cmd->add_option("--fix", o->files.request.fixed_parts,
                   "Body part whose latent all K futures share (e.g. legs: same legs, varied upper "
                   "body); repeat for several");
   cmd->add_option("--seed", o->files.request.seed,

@@ -1,5 +1,5 @@
 // Internal to the kernels target: each backend's entry points, which the public functions
-// (panel_product.h, batch_norm_tanh.h, tanh.h) choose from by ActiveBackend().
+// (panel_product.h, tanh.h) choose from by ActiveBackend().
 // Include only from src/generator/kernels/*.cc. The avx512 ones exist only in builds with
 // MOTIONFORK_KERNELS_AVX512 defined (CMakeLists.txt).
 #pragma once
@@ -16,12 +16,6 @@ void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t wid
              const float* shared, const int64_t* nodes, int64_t count, const float* residual,
              float* out, int64_t ld);
 void Tanh(float* x, int64_t n);
-void BatchNormTanhForward(const float* x, int64_t rows, int64_t width, const float* gamma,
-                          const float* beta, float eps, float* mean, float* var, float* inv,
-                          float* y);
-void BatchNormTanhBackward(const float* gy, const float* x, const float* y, const float* mean,
-                           const float* inv, const float* gamma, int64_t rows, int64_t width,
-                           float* gx, float* ggamma, float* gbeta, float* gsum);
 }  // namespace portable
 
 namespace avx512 {
