@@ -1,0 +1,38 @@
+# Per-target include folders: a module's headers are visible only to code that links the module.
+#
+# Headers stay next to their sources (src/<module>/x.h, included as "module/x.h"), but no target
+# publishes src/ itself. Instead each library publishes a folder of its own in the build tree,
+# BUILD/module_include/<target>/, holding links to its headers at their src/-relative paths. A
+# target sees its own folder and the folders of the libraries it links PUBLIC-ly (directly or through
+# a chain of PUBLIC links), so `#include "bundle/manifest.h"` in a module that does not link
+# motionfork_bundle is a compile error, not a convention. tests/architecture_check.py checks the
+# same rule on the source text, and ARCHITECTURE.md lists which target may link which.
+#
+#   motionfork_publish_headers(<target>)                 every *.h / *.inc beside the CMakeLists.txt
+#   motionfork_publish_headers(<target> HEADERS a.h ...) these headers (a folder shared by targets)
+#   motionfork_publish_headers(<target> EXCLUDE a.h ...) the folder's headers but these
+function(motionfork_publish_headers target)
+  cmake_parse_arguments(arg "" "" "HEADERS;EXCLUDE" ${ARGN})
+  if(arg_HEADERS)
+    set(headers ${arg_HEADERS})
+  else()
+    file(GLOB headers CONFIGURE_DEPENDS RELATIVE ${CMAKE_CURRENT_SOURCE_DIR}
+         ${CMAKE_CURRENT_SOURCE_DIR}/*.h ${CMAKE_CURRENT_SOURCE_DIR}/*.inc)
+    if(arg_EXCLUDE)
+      list(REMOVE_ITEM headers ${arg_EXCLUDE})
+    endif()
+  endif()
+  set(root ${PROJECT_BINARY_DIR}/module_include/${target})
+  file(REMOVE_RECURSE ${root})  # no stale link to a header that was removed or moved
+  foreach(h IN LISTS headers)
+    set(source ${CMAKE_CURRENT_SOURCE_DIR}/${h})
+    if(NOT EXISTS ${source})
+      message(FATAL_ERROR "motionfork_publish_headers(${target}): no header ${source}")
+    endif()
+    file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR}/src ${source})
+    get_filename_component(dir ${root}/${rel} DIRECTORY)
+    file(MAKE_DIRECTORY ${dir})
+    file(CREATE_LINK ${source} ${root}/${rel} SYMBOLIC)
+  endforeach()
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${root}>)
+endfunction()
