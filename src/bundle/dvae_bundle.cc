@@ -21,6 +21,7 @@ using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
 using yaml_util::Section;
+using yaml_util::WithFormatErrors;
 
 void ParseModel(const std::string& file, const YAML::Node& n, DvaeOptions* o) {
   CheckKeys(file, n, "model", {"window", "hidden", "latent", "mlp_hidden", "groups"});
@@ -109,7 +110,7 @@ std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Nod
 }
 
 DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
-  return WithManifestErrors(file, [&] {
+  return WithFormatErrors(file, [&] {
     CheckKeys(file, root, "",
               {"name", "protocol", "model", "training", "finetune", "noise_prior", "denoise"});
     DvaeTrainConfig c;
@@ -191,7 +192,7 @@ DvaeTrainConfig ParseDvaeTrainConfig(const std::string& yaml_text, const std::st
 
 DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksums) {
   const YAML::Node root = LoadManifestFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     DvaeManifest m;
     ManifestHeader h = ParseManifestHeader(path, root, kDvaeBundleFormat);
     m.format = h.format;

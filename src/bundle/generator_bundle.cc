@@ -22,6 +22,7 @@ namespace {
 using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
+using yaml_util::WithFormatErrors;
 
 template <typename T>
 std::vector<T> List(const std::string& path, const YAML::Node& map, const std::string& key,
@@ -64,7 +65,7 @@ void CheckTrainConfig(const GeneratorTrainConfig& c) {
 
 GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
   const YAML::Node root = yaml_util::LoadFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     GeneratorTrainConfig c;
     c.path = path;
     c.name = Get<std::string>(path, root, "name");
@@ -123,7 +124,7 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
 
 ModelConfig LoadGeneratorManifest(const std::string& path, BundleChecksums* checksums) {
   const YAML::Node root = LoadManifestFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     ModelConfig c;
     ManifestHeader h = ParseManifestHeader(path, root, kGeneratorBundleFormat,
                                            {/*protocol=*/true,

@@ -20,6 +20,7 @@ using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
 using yaml_util::Section;
+using yaml_util::WithFormatErrors;
 
 std::vector<HgvaeLevel> ParseLevels(const std::string& file, const YAML::Node& n) {
   if (!n.IsSequence()) Fail(file, n, "key 'levels' must be a list of [nodes, features] pairs");
@@ -89,7 +90,7 @@ void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
 }
 
 HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
-  return WithManifestErrors(file, [&] {
+  return WithFormatErrors(file, [&] {
     CheckKeys(file, root, "", {"name", "protocol", "model", "training", "impute", "ood"});
     HgvaeTrainConfig c;
     c.path = file;
@@ -150,7 +151,7 @@ HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text,
 
 HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checksums) {
   const YAML::Node root = LoadManifestFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     HgvaeManifest m;
     ManifestHeader h = ParseManifestHeader(path, root, kHgvaeBundleFormat);
     m.format = h.format;

@@ -52,10 +52,4 @@ std::vector<std::pair<std::string, std::string>> ParseManifestInfo(const YAML::N
 void EmitManifestInfo(YAML::Emitter& out,
                       const std::vector<std::pair<std::string, std::string>>& info);
 
-// Runs f, turning std::invalid_argument and YAML exceptions into FormatErrors naming path.
-template <typename F>
-auto WithManifestErrors(const std::string& path, F&& f) -> decltype(f());
-
 }  // namespace motionfork
-
-#include "bundle/manifest.inc"
