@@ -198,11 +198,7 @@ Futures Model::Predict(const std::vector<float>& history, const PredictOptions& 
         " frames (" + std::to_string(history_frames() / fps()) + " s at " + std::to_string(fps()) +
         " Hz), got " + std::to_string(motion.num_frames()));
   }
-  ForecastRequest request;
-  request.k = options.k;
-  request.seed = options.seed;
-  request.fixed_parts = options.fixed_parts;
-  request.repair = options.repair;
+  const ForecastRequest request{options.k, options.seed, options.fixed_parts, options.repair};
   pipeline::HistoryInput in;
   in.motion.motion = motion;
   in.motion.missing.assign(motion.positions().size(), 0);

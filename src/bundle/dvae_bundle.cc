@@ -6,6 +6,7 @@
 
 #include "bundle/manifest.h"
 #include "bundle/torch_bundle.h"
+#include "bundle/train_config_keys.h"
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
 #include "core/error.h"
@@ -21,6 +22,7 @@ using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
 using yaml_util::Section;
+using yaml_util::WithFormatErrors;
 
 void ParseModel(const std::string& file, const YAML::Node& n, DvaeOptions* o) {
   CheckKeys(file, n, "model", {"window", "hidden", "latent", "mlp_hidden", "groups"});
@@ -109,33 +111,23 @@ std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Nod
 }
 
 DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
-  return WithManifestErrors(file, [&] {
+  return WithFormatErrors(file, [&] {
     CheckKeys(file, root, "",
               {"name", "protocol", "model", "training", "finetune", "noise_prior", "denoise"});
     DvaeTrainConfig c;
-    c.path = file;
-    c.name = GetOr<std::string>(file, root, "name", "");
-    c.protocol = Get<std::string>(file, root, "protocol");
+    ReadTrainConfigHeader(file, root, &c);
     ParseModel(file, Section(file, root, "model", false), &c.model);
     const YAML::Node t = Section(file, root, "training", false);
     CheckKeys(file, t, "training",
-              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "lr_decay",
-               "grad_clip", "kl_anneal_epochs", "kl_start", "bone_weight", "held_out_share",
-               "held_out_windows", "seed", "threads"});
+              WithEpochLoopKeys({"lr_decay", "kl_anneal_epochs", "bone_weight", "held_out_share",
+                                 "held_out_windows"}));
     DvaeTrainOptions& o = c.training;
-    o.epochs = GetOr<int>(file, t, "epochs", o.epochs);
-    o.windows_per_epoch = GetOr<int>(file, t, "windows_per_epoch", o.windows_per_epoch);
-    o.batch_size = GetOr<int>(file, t, "batch_size", o.batch_size);
-    o.learning_rate = GetOr<double>(file, t, "learning_rate", o.learning_rate);
+    ReadEpochLoopKeys(file, t, &o);
     o.lr_decay = GetOr<double>(file, t, "lr_decay", o.lr_decay);
-    o.grad_clip = GetOr<double>(file, t, "grad_clip", o.grad_clip);
     o.kl_anneal_epochs = GetOr<int>(file, t, "kl_anneal_epochs", o.kl_anneal_epochs);
-    o.kl_start = GetOr<double>(file, t, "kl_start", o.kl_start);
     o.bone_weight = GetOr<double>(file, t, "bone_weight", o.bone_weight);
     o.held_out_share = GetOr<double>(file, t, "held_out_share", o.held_out_share);
     o.held_out_windows = GetOr<int>(file, t, "held_out_windows", o.held_out_windows);
-    o.seed = GetOr<uint64_t>(file, t, "seed", o.seed);
-    o.threads = GetOr<int>(file, t, "threads", o.threads);
     if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size ||
         !(o.learning_rate > 0) || !(o.lr_decay > 0 && o.lr_decay <= 1) || o.kl_anneal_epochs < 0 ||
         o.threads < 1 || o.bone_weight < 0 || !(o.held_out_share > 0 && o.held_out_share < 1) ||
@@ -147,23 +139,14 @@ DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) 
            "held_out_share < 1");
     }
     const YAML::Node f = Section(file, root, "finetune", false);
-    CheckKeys(
-        file, f, "finetune",
-        {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip",
-         "kl_anneal_epochs", "kl_start", "bone_weight", "noise", "patience", "seed", "threads"});
+    CheckKeys(file, f, "finetune",
+              WithEpochLoopKeys({"kl_anneal_epochs", "bone_weight", "noise", "patience"}));
     DvaeFinetuneOptions& u = c.finetune;
-    u.epochs = GetOr<int>(file, f, "epochs", u.epochs);
-    u.windows_per_epoch = GetOr<int>(file, f, "windows_per_epoch", u.windows_per_epoch);
-    u.batch_size = GetOr<int>(file, f, "batch_size", u.batch_size);
-    u.learning_rate = GetOr<double>(file, f, "learning_rate", u.learning_rate);
-    u.grad_clip = GetOr<double>(file, f, "grad_clip", u.grad_clip);
+    ReadEpochLoopKeys(file, f, &u);
     u.kl_anneal_epochs = GetOr<int>(file, f, "kl_anneal_epochs", u.kl_anneal_epochs);
-    u.kl_start = GetOr<double>(file, f, "kl_start", u.kl_start);
     u.bone_weight = GetOr<double>(file, f, "bone_weight", u.bone_weight);
     if (f["noise"]) u.noise = ParseNoiseList(file, f["noise"]);
     u.patience = GetOr<int>(file, f, "patience", u.patience);
-    u.seed = GetOr<uint64_t>(file, f, "seed", u.seed);
-    u.threads = GetOr<int>(file, f, "threads", u.threads);
     if (u.epochs < 1 || u.batch_size < 1 || u.windows_per_epoch < u.batch_size ||
         !(u.learning_rate > 0) || u.kl_anneal_epochs < 0 || u.threads < 1 || u.noise.empty() ||
         u.patience < 1 || u.bone_weight < 0) {
@@ -191,23 +174,12 @@ DvaeTrainConfig ParseDvaeTrainConfig(const std::string& yaml_text, const std::st
 
 DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksums) {
   const YAML::Node root = LoadManifestFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     DvaeManifest m;
-    ManifestHeader h = ParseManifestHeader(path, root, kDvaeBundleFormat);
-    m.format = h.format;
-    m.protocol = h.protocol;
-    m.fps = h.fps;
-    m.skeleton = std::move(h.skeleton);
-    if (checksums) *checksums = std::move(h.checksums);
+    ParseManifestHeaderInto(path, root, kDvaeBundleFormat, &m, checksums);
     ParseModel(path, Section(path, root, "model", true), &m.model);
-    const YAML::Node norm = Section(path, root, "normalisation", true);
-    m.mean = Get<std::vector<double>>(path, norm, "mean");
-    m.std = Get<std::vector<double>>(path, norm, "std");
-    const size_t values = 3 * m.skeleton.joint_names.size();
-    if (m.mean.size() != values || m.std.size() != values) {
-      Fail(path, norm,
-           "normalisation: expected " + std::to_string(values) + " means and stds (3 per joint)");
-    }
+    const int values = 3 * static_cast<int>(m.skeleton.joint_names.size());
+    ParseManifestNormalisation(path, root, values, "3 per joint", &m.mean, &m.std);
     ParseNoisePrior(path, Section(path, root, "noise_prior", true), &m.noise_prior);
     m.finetuned = GetOr<bool>(path, root, "finetuned", false);
     if (root["finetune_noise"]) m.finetune_noise = ParseNoiseList(path, root["finetune_noise"]);
@@ -218,36 +190,24 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
 }
 
 std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& checksums) {
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  out << YAML::BeginMap;
-  EmitManifestFormat(out, {m.format, m.protocol, m.fps, {}, {}});
-  EmitModel(out, m.model);
-  out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "mean" << YAML::Value << YAML::Flow << m.mean;
-  out << YAML::Key << "std" << YAML::Value << YAML::Flow << m.std;
-  out << YAML::EndMap;
-  EmitNoisePrior(out, m.noise_prior);
-  out << YAML::Key << "finetuned" << YAML::Value << m.finetuned;
-  out << YAML::Key << "finetune_noise" << YAML::Value << YAML::Flow << m.finetune_noise;
-  EmitDenoise(out, m.denoise);
-  EmitSkeletonSpec(out, m.skeleton);
-  EmitManifestChecksums(out, checksums);
-  EmitManifestInfo(out, m.info);
-  out << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
+  return FormatManifest(
+      {m.format, m.protocol, m.fps, m.skeleton, checksums}, m.info, [&m](YAML::Emitter& out) {
+        EmitModel(out, m.model);
+        EmitManifestNormalisation(out, m.mean, m.std);
+        EmitNoisePrior(out, m.noise_prior);
+        out << YAML::Key << "finetuned" << YAML::Value << m.finetuned;
+        out << YAML::Key << "finetune_noise" << YAML::Value << YAML::Flow << m.finetune_noise;
+        EmitDenoise(out, m.denoise);
+      });
 }
 
 void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net) {
-  WriteBundle(dir, {{"dvae.pt", WeightBytes(net)}}, "dvae.yaml",
-              [&m](const BundleChecksums& sums) { return FormatDvaeManifest(m, sums); });
+  SaveTorchBundle(dir, "dvae.yaml", "dvae.pt", m, net, FormatDvaeManifest);
 }
 
 DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m) {
-  return LoadTorchBundle<DvaeManifest, DvaeNet>(
-      dir, "Motion-DVAE", "dvae.yaml", "dvae.pt", m,
-      [](const std::string& path, BundleChecksums* sums) { return LoadDvaeManifest(path, sums); },
-      [](const DvaeManifest& manifest) { return BuildDvaeNet(manifest); });
+  return LoadTorchBundle(dir, "Motion-DVAE", "dvae.yaml", "dvae.pt", m, LoadDvaeManifest,
+                         BuildDvaeNet);
 }
 
 DvaeModel LoadDvaeModel(const std::string& dir) {

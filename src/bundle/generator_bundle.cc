@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
+#include <type_traits>
 
 #include "bodyparts/part_plan.h"
 #include "bundle/generator_net_bundle.h"
@@ -22,6 +23,7 @@ namespace {
 using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
+using yaml_util::WithFormatErrors;
 
 template <typename T>
 std::vector<T> List(const std::string& path, const YAML::Node& map, const std::string& key,
@@ -32,6 +34,29 @@ std::vector<T> List(const std::string& path, const YAML::Node& map, const std::s
   std::vector<T> out;
   for (const YAML::Node& e : n) out.push_back(e.as<T>());
   return out;
+}
+
+// The generator's keys after num_nodes, in file order, as f(key, member): the one list that
+// model.yaml's `generator:` is read and written by, and a training config's is read by.
+template <typename Options, typename F>
+void ForEachGeneratorKey(Options& g, F f) {
+  f("n_pre", g.n_pre);
+  f("hidden", g.hidden);
+  f("blocks", g.blocks);
+  f("nz", g.nz);
+  f("batch_norm", g.batch_norm);
+  f("dropout", g.dropout);
+  f("partition", g.partition);
+}
+
+// A bundle must hold each key (but dropout, which bundles written before it existed lack: 0); a
+// training config may leave any out (the default stays).
+void ReadGeneratorKeys(const std::string& path, const YAML::Node& n, bool required,
+                       GeneratorOptions* g) {
+  ForEachGeneratorKey(*g, [&](const std::string& key, auto& value) {
+    using T = std::decay_t<decltype(value)>;
+    value = required && key != "dropout" ? Get<T>(path, n, key) : GetOr<T>(path, n, key, value);
+  });
 }
 
 void CheckTrainConfig(const GeneratorTrainConfig& c) {
@@ -64,7 +89,7 @@ void CheckTrainConfig(const GeneratorTrainConfig& c) {
 
 GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
   const YAML::Node root = yaml_util::LoadFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     GeneratorTrainConfig c;
     c.path = path;
     c.name = Get<std::string>(path, root, "name");
@@ -72,14 +97,7 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
     c.prior = GetOr<std::string>(path, root, "prior", "");
     c.constraints = GetOr<std::string>(path, root, "constraints", "");
     if (const YAML::Node g = root["generator"]) {
-      GeneratorOptions& o = c.generator;
-      o.n_pre = GetOr<int>(path, g, "n_pre", o.n_pre);
-      o.hidden = GetOr<int>(path, g, "hidden", o.hidden);
-      o.blocks = GetOr<int>(path, g, "blocks", o.blocks);
-      o.nz = GetOr<int>(path, g, "nz", o.nz);
-      o.batch_norm = GetOr<bool>(path, g, "batch_norm", o.batch_norm);
-      o.dropout = GetOr<double>(path, g, "dropout", o.dropout);
-      o.partition = GetOr<std::string>(path, g, "partition", o.partition);
+      ReadGeneratorKeys(path, g, /*required=*/false, &c.generator);
     }
     if (const YAML::Node l = root["losses"]) {
       LossWeights& w = c.losses;
@@ -123,7 +141,7 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
 
 ModelConfig LoadGeneratorManifest(const std::string& path, BundleChecksums* checksums) {
   const YAML::Node root = LoadManifestFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     ModelConfig c;
     ManifestHeader h = ParseManifestHeader(path, root, kGeneratorBundleFormat,
                                            {/*protocol=*/true,
@@ -139,13 +157,7 @@ ModelConfig LoadGeneratorManifest(const std::string& path, BundleChecksums* chec
     const YAML::Node n = root["generator"];
     if (!n) Fail(path, root, "missing mapping 'generator'");
     g.num_nodes = Get<int>(path, n, "num_nodes");
-    g.n_pre = Get<int>(path, n, "n_pre");
-    g.hidden = Get<int>(path, n, "hidden");
-    g.blocks = Get<int>(path, n, "blocks");
-    g.nz = Get<int>(path, n, "nz");
-    g.batch_norm = Get<bool>(path, n, "batch_norm");
-    g.dropout = GetOr<double>(path, n, "dropout", 0.0);
-    g.partition = Get<std::string>(path, n, "partition");
+    ReadGeneratorKeys(path, n, /*required=*/true, &g);
     ValidateGeneratorOptions(g);
     c.skeleton = ParseSkeletonSpec(path, root);
     for (auto& [k, v] : ParseManifestInfo(root)) c.info[k] = std::move(v);
@@ -163,13 +175,9 @@ std::string FormatGeneratorManifest(const ModelConfig& c, const BundleChecksums&
   const GeneratorOptions& g = c.generator;
   out << YAML::Key << "generator" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "num_nodes" << YAML::Value << g.num_nodes;
-  out << YAML::Key << "n_pre" << YAML::Value << g.n_pre;
-  out << YAML::Key << "hidden" << YAML::Value << g.hidden;
-  out << YAML::Key << "blocks" << YAML::Value << g.blocks;
-  out << YAML::Key << "nz" << YAML::Value << g.nz;
-  out << YAML::Key << "batch_norm" << YAML::Value << g.batch_norm;
-  out << YAML::Key << "dropout" << YAML::Value << g.dropout;
-  out << YAML::Key << "partition" << YAML::Value << g.partition;
+  ForEachGeneratorKey(g, [&out](const char* key, const auto& value) {
+    out << YAML::Key << key << YAML::Value << value;
+  });
   out << YAML::EndMap;
   EmitSkeletonSpec(out, c.skeleton);
   EmitManifestChecksums(out, checksums);
@@ -179,18 +187,13 @@ std::string FormatGeneratorManifest(const ModelConfig& c, const BundleChecksums&
 }
 
 void SaveGeneratorBundle(const std::string& dir, const ModelConfig& config, GeneratorNet& net) {
-  WriteBundle(
-      dir, {{"generator.pt", WeightBytes(net)}}, "model.yaml",
-      [&config](const BundleChecksums& sums) { return FormatGeneratorManifest(config, sums); });
+  SaveTorchBundle(dir, "model.yaml", "generator.pt", config, net, FormatGeneratorManifest);
 }
 
 GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config) {
   const std::string yaml = (fs::path(dir) / "model.yaml").string();
-  return LoadTorchBundle<ModelConfig, GeneratorNet>(
-      dir, "model", "model.yaml", "generator.pt", config,
-      [](const std::string& path, BundleChecksums* sums) {
-        return LoadGeneratorManifest(path, sums);
-      },
+  return LoadTorchBundle(
+      dir, "model", "model.yaml", "generator.pt", config, LoadGeneratorManifest,
       [&yaml](const ModelConfig& m) {
         std::optional<Skeleton> built;
         try {

@@ -6,6 +6,7 @@
 
 #include "bundle/manifest.h"
 #include "bundle/torch_bundle.h"
+#include "bundle/train_config_keys.h"
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
 #include "core/error.h"
@@ -20,6 +21,7 @@ using yaml_util::Fail;
 using yaml_util::Get;
 using yaml_util::GetOr;
 using yaml_util::Section;
+using yaml_util::WithFormatErrors;
 
 std::vector<HgvaeLevel> ParseLevels(const std::string& file, const YAML::Node& n) {
   if (!n.IsSequence()) Fail(file, n, "key 'levels' must be a list of [nodes, features] pairs");
@@ -88,33 +90,32 @@ void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
   out << YAML::EndMap;
 }
 
+void EmitOod(YAML::Emitter& out, const HgvaeManifest& m) {
+  out << YAML::Key << "ood" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "score" << YAML::Value << ToString(m.ood_score);
+  out << YAML::Key << "score_mean" << YAML::Value << m.score_mean;
+  out << YAML::Key << "score_std" << YAML::Value << m.score_std;
+  out << YAML::Key << "k" << YAML::Value << m.ood_k;
+  out << YAML::EndMap;
+}
+
 HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
-  return WithManifestErrors(file, [&] {
+  return WithFormatErrors(file, [&] {
     CheckKeys(file, root, "", {"name", "protocol", "model", "training", "impute", "ood"});
     HgvaeTrainConfig c;
-    c.path = file;
-    c.name = GetOr<std::string>(file, root, "name", "");
-    c.protocol = Get<std::string>(file, root, "protocol");
+    ReadTrainConfigHeader(file, root, &c);
     ParseModel(file, Section(file, root, "model", false), &c.model);
     ValidateHgvaeOptions(c.model, 0);
     const YAML::Node t = Section(file, root, "training", false);
-    CheckKeys(file, t, "training",
-              {"epochs", "windows_per_epoch", "batch_size", "learning_rate", "grad_clip",
-               "kl_warmup_epochs", "kl_start", "condition", "held_out_share", "held_out_windows",
-               "seed", "threads"});
+    CheckKeys(
+        file, t, "training",
+        WithEpochLoopKeys({"kl_warmup_epochs", "condition", "held_out_share", "held_out_windows"}));
     HgvaeTrainOptions& o = c.training;
-    o.epochs = GetOr<int>(file, t, "epochs", o.epochs);
-    o.windows_per_epoch = GetOr<int>(file, t, "windows_per_epoch", o.windows_per_epoch);
-    o.batch_size = GetOr<int>(file, t, "batch_size", o.batch_size);
-    o.learning_rate = GetOr<double>(file, t, "learning_rate", o.learning_rate);
-    o.grad_clip = GetOr<double>(file, t, "grad_clip", o.grad_clip);
+    ReadEpochLoopKeys(file, t, &o);
     o.kl_warmup_epochs = GetOr<int>(file, t, "kl_warmup_epochs", o.kl_warmup_epochs);
-    o.kl_start = GetOr<double>(file, t, "kl_start", o.kl_start);
     o.condition = GetOr<std::string>(file, t, "condition", o.condition);
     o.held_out_share = GetOr<double>(file, t, "held_out_share", o.held_out_share);
     o.held_out_windows = GetOr<int>(file, t, "held_out_windows", o.held_out_windows);
-    o.seed = GetOr<uint64_t>(file, t, "seed", o.seed);
-    o.threads = GetOr<int>(file, t, "threads", o.threads);
     if (o.epochs < 1 || o.batch_size < 1 || o.windows_per_epoch < o.batch_size ||
         !(o.learning_rate > 0) || o.kl_warmup_epochs < 0 || o.threads < 1 ||
         !(o.held_out_share > 0 && o.held_out_share < 1)) {
@@ -150,25 +151,13 @@ HgvaeTrainConfig ParseHgvaeTrainConfig(const std::string& yaml_text,
 
 HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checksums) {
   const YAML::Node root = LoadManifestFile(path);
-  return WithManifestErrors(path, [&] {
+  return WithFormatErrors(path, [&] {
     HgvaeManifest m;
-    ManifestHeader h = ParseManifestHeader(path, root, kHgvaeBundleFormat);
-    m.format = h.format;
-    m.protocol = h.protocol;
-    m.fps = h.fps;
-    m.skeleton = std::move(h.skeleton);
-    if (checksums) *checksums = std::move(h.checksums);
+    ParseManifestHeaderInto(path, root, kHgvaeBundleFormat, &m, checksums);
     ParseModel(path, Section(path, root, "model", true), &m.model);
     m.classes = yaml_util::StringList(path, root["classes"], "classes");
-    const YAML::Node norm = Section(path, root, "normalisation", true);
-    m.mean = Get<std::vector<double>>(path, norm, "mean");
-    m.std = Get<std::vector<double>>(path, norm, "std");
     const int coords = 3 * (static_cast<int>(m.skeleton.joint_names.size()) - 1);
-    if (static_cast<int>(m.mean.size()) != coords || static_cast<int>(m.std.size()) != coords) {
-      Fail(path, norm,
-           "normalisation: expected " + std::to_string(coords) +
-               " means and stds (3 per non-root joint)");
-    }
+    ParseManifestNormalisation(path, root, coords, "3 per non-root joint", &m.mean, &m.std);
     ValidateHgvaeOptions(m.model, coords);
     const YAML::Node ood = Section(path, root, "ood", true);
     m.score_mean = Get<double>(path, ood, "score_mean");
@@ -183,40 +172,23 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checks
 }
 
 std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& checksums) {
-  YAML::Emitter out;
-  out.SetDoublePrecision(17);
-  out << YAML::BeginMap;
-  EmitManifestFormat(out, {m.format, m.protocol, m.fps, {}, {}});
-  EmitModel(out, m.model);
-  out << YAML::Key << "classes" << YAML::Value << YAML::Flow << m.classes;
-  out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "mean" << YAML::Value << YAML::Flow << m.mean;
-  out << YAML::Key << "std" << YAML::Value << YAML::Flow << m.std;
-  out << YAML::EndMap;
-  out << YAML::Key << "ood" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "score" << YAML::Value << ToString(m.ood_score);
-  out << YAML::Key << "score_mean" << YAML::Value << m.score_mean;
-  out << YAML::Key << "score_std" << YAML::Value << m.score_std;
-  out << YAML::Key << "k" << YAML::Value << m.ood_k;
-  out << YAML::EndMap;
-  EmitImpute(out, m.impute);
-  EmitSkeletonSpec(out, m.skeleton);
-  EmitManifestChecksums(out, checksums);
-  EmitManifestInfo(out, m.info);
-  out << YAML::EndMap;
-  return std::string(out.c_str()) + "\n";
+  return FormatManifest({m.format, m.protocol, m.fps, m.skeleton, checksums}, m.info,
+                        [&m](YAML::Emitter& out) {
+                          EmitModel(out, m.model);
+                          out << YAML::Key << "classes" << YAML::Value << YAML::Flow << m.classes;
+                          EmitManifestNormalisation(out, m.mean, m.std);
+                          EmitOod(out, m);
+                          EmitImpute(out, m.impute);
+                        });
 }
 
 void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net) {
-  WriteBundle(dir, {{"hgvae.pt", WeightBytes(net)}}, "hgvae.yaml",
-              [&m](const BundleChecksums& sums) { return FormatHgvaeManifest(m, sums); });
+  SaveTorchBundle(dir, "hgvae.yaml", "hgvae.pt", m, net, FormatHgvaeManifest);
 }
 
 HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m) {
-  return LoadTorchBundle<HgvaeManifest, HgvaeNet>(
-      dir, "HG-VAE", "hgvae.yaml", "hgvae.pt", m,
-      [](const std::string& path, BundleChecksums* sums) { return LoadHgvaeManifest(path, sums); },
-      [](const HgvaeManifest& manifest) { return BuildHgvaeNet(manifest); });
+  return LoadTorchBundle(dir, "HG-VAE", "hgvae.yaml", "hgvae.pt", m, LoadHgvaeManifest,
+                         BuildHgvaeNet);
 }
 
 HgvaeModel LoadHgvaeModel(const std::string& dir) {

@@ -1,5 +1,7 @@
 #include "bundle/manifest.h"
 
+#include <algorithm>
+
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
 
@@ -57,10 +59,46 @@ void EmitManifestFormat(YAML::Emitter& out, const ManifestHeader& h, bool open_p
   if (!open_protocol) out << YAML::EndMap;
 }
 
+std::string FormatManifest(const ManifestHeader& h,
+                           const std::vector<std::pair<std::string, std::string>>& info,
+                           const std::function<void(YAML::Emitter&)>& keys) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap;
+  EmitManifestFormat(out, h);
+  keys(out);
+  EmitSkeletonSpec(out, h.skeleton);
+  EmitManifestChecksums(out, h.checksums);
+  EmitManifestInfo(out, info);
+  out << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
 void EmitManifestChecksums(YAML::Emitter& out, const BundleChecksums& checksums) {
   if (checksums.empty()) return;
   out << YAML::Key << "checksums" << YAML::Value << YAML::BeginMap;
   for (const auto& [file, sum] : checksums) out << YAML::Key << file << YAML::Value << sum;
+  out << YAML::EndMap;
+}
+
+void ParseManifestNormalisation(const std::string& path, const YAML::Node& root, int values,
+                                const std::string& per_value, std::vector<double>* mean,
+                                std::vector<double>* std) {
+  const YAML::Node norm = yaml_util::Section(path, root, "normalisation", true);
+  *mean = Get<std::vector<double>>(path, norm, "mean");
+  *std = Get<std::vector<double>>(path, norm, "std");
+  if (static_cast<int>(mean->size()) != values || static_cast<int>(std->size()) != values) {
+    Fail(path, norm,
+         "normalisation: expected " + std::to_string(values) + " means and stds (" + per_value +
+             ")");
+  }
+}
+
+void EmitManifestNormalisation(YAML::Emitter& out, const std::vector<double>& mean,
+                               const std::vector<double>& std) {
+  out << YAML::Key << "normalisation" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "mean" << YAML::Value << YAML::Flow << mean;
+  out << YAML::Key << "std" << YAML::Value << YAML::Flow << std;
   out << YAML::EndMap;
 }
 
@@ -78,6 +116,14 @@ void EmitManifestInfo(YAML::Emitter& out,
   out << YAML::Key << "info" << YAML::Value << YAML::BeginMap;
   for (const auto& [k, v] : info) out << YAML::Key << k << YAML::Value << v;
   out << YAML::EndMap;
+}
+
+void SetManifestInfo(std::vector<std::pair<std::string, std::string>>* info, const std::string& key,
+                     const std::string& value) {
+  info->erase(
+      std::remove_if(info->begin(), info->end(), [&](const auto& kv) { return kv.first == key; }),
+      info->end());
+  info->emplace_back(key, value);
 }
 
 }  // namespace motionfork

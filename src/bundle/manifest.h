@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,6 +36,20 @@ YAML::Node LoadManifestFile(const std::string& path);
 ManifestHeader ParseManifestHeader(const std::string& path, const YAML::Node& root,
                                    const std::string& expected_format,
                                    const ManifestKeys& keys = {});
+// ParseManifestHeader into a manifest struct with members format, protocol, fps and skeleton
+// (HgvaeManifest, DvaeManifest); the checksums into *checksums when it is given.
+template <typename Manifest>
+void ParseManifestHeaderInto(const std::string& path, const YAML::Node& root,
+                             const std::string& expected_format, Manifest* m,
+                             BundleChecksums* checksums) {
+  ManifestHeader h = ParseManifestHeader(path, root, expected_format);
+  m->format = h.format;
+  m->protocol = h.protocol;
+  m->fps = h.fps;
+  m->skeleton = std::move(h.skeleton);
+  if (checksums) *checksums = std::move(h.checksums);
+}
+
 // A versioned format (prior.yaml: `format: motionfork-flow-prior`, `version: 1`): the format must
 // match (`what` names the kind of bundle) and the version be 1 .. max_version. Returns the version.
 int ParseManifestVersion(const std::string& path, const YAML::Node& root,
@@ -44,18 +59,28 @@ int ParseManifestVersion(const std::string& path, const YAML::Node& root,
 // `format` and `protocol: {name, fps}` (without closing the protocol mapping when open_protocol:
 // the generator adds t_his and t_pred).
 void EmitManifestFormat(YAML::Emitter& out, const ManifestHeader& h, bool open_protocol = false);
+// The whole manifest of a bundle: `format` and `protocol` of h, what `keys` writes (the bundle's
+// own keys), h's `skeleton` and `checksums`, then `info`; doubles with 17 digits, a final newline.
+std::string FormatManifest(const ManifestHeader& h,
+                           const std::vector<std::pair<std::string, std::string>>& info,
+                           const std::function<void(YAML::Emitter&)>& keys);
 // `checksums:` (nothing when empty).
 void EmitManifestChecksums(YAML::Emitter& out, const BundleChecksums& checksums);
+
+// `normalisation: {mean, std}`, each a list of `values` numbers (otherwise a FormatError "expected
+// <values> means and stds (<per_value>)").
+void ParseManifestNormalisation(const std::string& path, const YAML::Node& root, int values,
+                                const std::string& per_value, std::vector<double>* mean,
+                                std::vector<double>* std);
+void EmitManifestNormalisation(YAML::Emitter& out, const std::vector<double>& mean,
+                               const std::vector<double>& std);
 
 // `info:` provenance pairs, in file order (absent = none).
 std::vector<std::pair<std::string, std::string>> ParseManifestInfo(const YAML::Node& root);
 void EmitManifestInfo(YAML::Emitter& out,
                       const std::vector<std::pair<std::string, std::string>>& info);
-
-// Runs f, turning std::invalid_argument and YAML exceptions into FormatErrors naming path.
-template <typename F>
-auto WithManifestErrors(const std::string& path, F&& f) -> decltype(f());
+// key = value in info: an earlier entry of key goes, the new one comes last.
+void SetManifestInfo(std::vector<std::pair<std::string, std::string>>* info, const std::string& key,
+                     const std::string& value);
 
 }  // namespace motionfork
-
-#include "bundle/manifest.inc"

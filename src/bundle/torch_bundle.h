@@ -15,10 +15,11 @@ namespace motionfork {
 
 // The one load path of a LibTorch bundle: files present, manifest parsed, weights checked against
 // the manifest's checksum and loaded into the net `build` makes from the manifest.
-template <typename Manifest, typename Net, typename LoadManifest, typename Build>
-Net LoadTorchBundle(const std::string& dir, const std::string& kind, const std::string& yaml_name,
-                    const std::string& weights_name, Manifest* m, LoadManifest load_manifest,
-                    Build build) {
+template <typename Manifest, typename LoadManifest, typename Build>
+auto LoadTorchBundle(const std::string& dir, const std::string& kind, const std::string& yaml_name,
+                     const std::string& weights_name, Manifest* m, LoadManifest load_manifest,
+                     Build build) -> decltype(build(*m)) {
+  using Net = decltype(build(*m));
   RequireBundleFiles(dir, kind, {yaml_name, weights_name});
   BundleChecksums sums;
   *m = load_manifest((std::filesystem::path(dir) / yaml_name).string(), &sums);
@@ -45,6 +46,15 @@ std::string WeightBytes(Net& net) {
   std::ostringstream weights;
   torch::save(net, weights);
   return weights.str();
+}
+
+// The one save path: net's weights as weights_name and, last, the manifest `format` makes of m and
+// the weights' checksum as yaml_name (WriteBundle, all-or-nothing).
+template <typename Manifest, typename Net, typename Format>
+void SaveTorchBundle(const std::string& dir, const std::string& yaml_name,
+                     const std::string& weights_name, const Manifest& m, Net& net, Format format) {
+  WriteBundle(dir, {{weights_name, WeightBytes(net)}}, yaml_name,
+              [&](const BundleChecksums& sums) { return format(m, sums); });
 }
 
 }  // namespace motionfork

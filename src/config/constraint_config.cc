@@ -384,7 +384,7 @@ ConstraintSetSpec ParseConstraintConfig(const std::string& yaml_text,
   try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(source_name, "line " + std::to_string(e.mark.line + 1), e.msg));
+    throw yaml_util::YamlError(source_name, e);
   }
   if (!root.IsMap()) {
     throw FormatError(FormatMessage(source_name, "", "expected a YAML mapping at the top level"));
@@ -392,7 +392,7 @@ ConstraintSetSpec ParseConstraintConfig(const std::string& yaml_text,
   try {
     return ParseRoot(root, source_name, options);
   } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(source_name, "line " + std::to_string(e.mark.line + 1), e.msg));
+    throw yaml_util::YamlError(source_name, e);
   }
 }
 
@@ -402,7 +402,7 @@ ConstraintSetSpec LoadConstraintConfig(const std::string& path,
   try {
     return ParseRoot(root, path, options);
   } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(path, "line " + std::to_string(e.mark.line + 1), e.msg));
+    throw yaml_util::YamlError(path, e);
   }
 }
 

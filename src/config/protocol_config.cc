@@ -10,22 +10,20 @@ using yaml_util::GetOr;
 
 ProtocolOptions LoadProtocolConfig(const std::string& path) {
   const YAML::Node root = yaml_util::LoadFile(path);
-  ProtocolOptions o;
-  o.path = path;
-  try {
+  return yaml_util::WithFormatErrors(path, [&] {
+    ProtocolOptions o;
+    o.path = path;
     o.name = Get<std::string>(path, root, "name");
     o.skeleton = Get<std::string>(path, root, "skeleton");
     const YAML::Node source = root["source"];
     if (!source || !source.IsMap())
       Fail(path, root, "missing mapping 'source' (format, unit_scale)");
     const std::string fmt = Get<std::string>(path, source, "format");
-    if (fmt == "bvh") {
-      o.format = SourceFormat::kBvh;
-    } else if (fmt == "videopose3d") {
-      o.format = SourceFormat::kVideoPose3d;
+    if (const auto format = ValueNamed(fmt, kSourceFormatNames)) {
+      o.format = *format;
     } else {
       Fail(path, source["format"],
-           "source.format: expected 'bvh' or 'videopose3d', found '" + fmt + "'");
+           "source.format: expected " + NameChoices(kSourceFormatNames) + ", found '" + fmt + "'");
     }
     o.unit_scale = GetOr<double>(path, source, "unit_scale", 1.0);
     o.fps = Get<double>(path, root, "fps");
@@ -34,15 +32,11 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
     o.min_length = GetOr<int>(path, root, "min_length", 0);
     if (o.min_length == 0) o.min_length = o.t_his + o.t_pred;
     const std::string r = GetOr<std::string>(path, root, "root", "relative_drop");
-    if (r == "relative_drop") {
-      o.root = RootHandling::kRelativeDrop;
-    } else if (r == "relative") {
-      o.root = RootHandling::kRelative;
-    } else if (r == "absolute") {
-      o.root = RootHandling::kAbsolute;
+    if (const auto handling = ValueNamed(r, kRootHandlingNames)) {
+      o.root = *handling;
     } else {
       Fail(path, root["root"],
-           "root: expected relative_drop, relative or absolute, found '" + r + "'");
+           "root: expected " + NameChoices(kRootHandlingNames, "") + ", found '" + r + "'");
     }
     if (const YAML::Node split = root["split"]) {
       o.split_file = GetOr<std::string>(path, split, "file", "");
@@ -71,12 +65,8 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
       o.keep_singleton_sets = GetOr<bool>(path, mm, "keep_singletons", true);
     }
     ValidateProtocol(o);
-  } catch (const std::invalid_argument& e) {
-    throw FormatError(FormatMessage(path, "", e.what()));
-  } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(path, "line " + std::to_string(e.mark.line + 1), e.msg));
-  }
-  return o;
+    return o;
+  });
 }
 
 }  // namespace motionfork

@@ -66,10 +66,10 @@ SkeletonSpec ReadJoints(const std::string& file, const YAML::Node& n, const std:
 
 SkeletonConfig LoadSkeletonConfig(const std::string& path) {
   const YAML::Node root = yaml_util::LoadFile(path);
-  SkeletonConfig out;
-  out.path = path;
   const std::string name = yaml_util::Get<std::string>(path, root, "name");
-  try {
+  return yaml_util::WithFormatErrors(path, [&] {
+    SkeletonConfig out;
+    out.path = path;
     const YAML::Node source = root["source"];
     const auto pairs = ReadPairs(path, root["left_right"]);
     const auto partitions = ReadPartitions(path, root["partitions"]);
@@ -98,12 +98,8 @@ SkeletonConfig LoadSkeletonConfig(const std::string& path) {
       out.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(spec));
       out.source = out.skeleton;
     }
-  } catch (const std::invalid_argument& e) {
-    throw FormatError(FormatMessage(path, "", e.what()));
-  } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(path, "line " + std::to_string(e.mark.line + 1), e.msg));
-  }
-  return out;
+    return out;
+  });
 }
 
 }  // namespace motionfork

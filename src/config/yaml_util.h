@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,11 @@ inline std::string Where(const YAML::Node& node) {
   throw FormatError(FormatMessage(file, Where(node), what));
 }
 
+// A YAML exception as a FormatError naming the file and the line.
+inline FormatError YamlError(const std::string& file, const YAML::Exception& e) {
+  return FormatError(FormatMessage(file, "line " + std::to_string(e.mark.line + 1), e.msg));
+}
+
 inline YAML::Node LoadFile(const std::string& file) {
   try {
     YAML::Node root = YAML::LoadFile(file);
@@ -32,7 +38,7 @@ inline YAML::Node LoadFile(const std::string& file) {
   } catch (const YAML::BadFile&) {
     throw FormatError(FormatMessage(file, "", "cannot open the file"));
   } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(file, "line " + std::to_string(e.mark.line + 1), e.msg));
+    throw YamlError(file, e);
   }
 }
 
@@ -78,7 +84,7 @@ inline YAML::Node LoadText(const std::string& text, const std::string& source) {
       throw FormatError(FormatMessage(source, "", "expected a YAML mapping at the top level"));
     return root;
   } catch (const YAML::Exception& e) {
-    throw FormatError(FormatMessage(source, "line " + std::to_string(e.mark.line + 1), e.msg));
+    throw YamlError(source, e);
   }
 }
 
@@ -105,6 +111,18 @@ inline YAML::Node Section(const std::string& file, const YAML::Node& root, const
   }
   if (!n.IsMap()) Fail(file, n, "key '" + key + "' must be a mapping");
   return n;
+}
+
+// Runs f, turning std::invalid_argument and YAML exceptions into FormatErrors naming file.
+template <typename F>
+auto WithFormatErrors(const std::string& file, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    throw FormatError(FormatMessage(file, "", e.what()));
+  } catch (const YAML::Exception& e) {
+    throw YamlError(file, e);
+  }
 }
 
 }  // namespace motionfork::yaml_util

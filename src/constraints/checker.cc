@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "constraints/vector_registers.h"
 #include "core/enum_names.h"
 
 namespace motionfork {
@@ -69,22 +70,10 @@ void AngleChecker::Run(const float* positions, int num_frames, float* angles_deg
       const VectorOp& op = ops[r];
       float* out = &reg[4 * r];
       if (op.kind == VectorOp::Kind::kBone) {
-        const float* p = f + 3 * op.x;
-        const float* q = f + 3 * op.y;
-        out[0] = q[0] - p[0];
-        out[1] = q[1] - p[1];
-        out[2] = q[2] - p[2];
-        out[3] = out[0] * out[0] + out[1] * out[1] + out[2] * out[2];
-        // Written as !(a > b) so NaN input counts as undefined instead of leaking out.
-        undefined[r] = !(out[3] > min_len2);
+        undefined[r] = BoneRegister(f, op.x, op.y, min_len2, out);
       } else {
-        const float* u = &reg[4 * op.x];
-        const float* v = &reg[4 * op.y];
-        out[0] = u[1] * v[2] - u[2] * v[1];
-        out[1] = u[2] * v[0] - u[0] * v[2];
-        out[2] = u[0] * v[1] - u[1] * v[0];
-        out[3] = out[0] * out[0] + out[1] * out[1] + out[2] * out[2];
-        undefined[r] = undefined[op.x] | undefined[op.y] | !(out[3] > min_sin2 * u[3] * v[3]);
+        undefined[r] = CrossRegister(&reg[4 * op.x], &reg[4 * op.y],
+                                     undefined[op.x] | undefined[op.y], min_sin2, out);
       }
     }
     float* angle_row = angles_deg ? angles_deg + static_cast<size_t>(t) * C : nullptr;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <random>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -28,6 +30,24 @@ std::vector<int> Dataset::ClipIndices(Split split) const {
   for (size_t c = 0; c < clips.size(); ++c) {
     if (clips[c].split == split) out.push_back(static_cast<int>(c));
   }
+  return out;
+}
+
+HeldOutClips HoldOutTrainingClips(const Dataset& dataset, int window, double share, uint64_t seed,
+                                  const std::string& who) {
+  HeldOutClips out;
+  for (int c : dataset.ClipIndices(Split::kTrain)) {
+    if (dataset.clips[c].motion.num_frames() >= window) out.clips.push_back(c);
+  }
+  if (out.clips.size() < 2) {
+    throw std::invalid_argument(
+        who + ": expected at least 2 training clips of >= " + std::to_string(window) +
+        " frames, found " + std::to_string(out.clips.size()));
+  }
+  std::vector<int> order = out.clips;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(seed));
+  const size_t held = std::max<size_t>(1, static_cast<size_t>(std::lround(share * order.size())));
+  out.held_out.insert(order.begin(), order.begin() + held);
   return out;
 }
 

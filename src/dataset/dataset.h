@@ -3,8 +3,10 @@
 // protocol leaves out listed with their reason.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -49,6 +51,17 @@ struct Dataset {
   // Frame counts of the given clips (for windows).
   std::vector<int> ClipFrames(const std::vector<int>& indices) const;
 };
+
+// The clips a model trains on from windows of `window` frames: the training split's clips of at
+// least that many frames, in order, and the whole clips held out of them (for per-epoch figures):
+// round(share x clips), at least 1, drawn by seed. Throws std::invalid_argument "<who>: expected at
+// least 2 training clips of >= <window> frames, found <n>".
+struct HeldOutClips {
+  std::vector<int> clips;
+  std::set<int> held_out;
+};
+HeldOutClips HoldOutTrainingClips(const Dataset& dataset, int window, double share, uint64_t seed,
+                                  const std::string& who);
 
 struct LoadProgress {
   std::string stage;   // "reading BVH", "reading cache", ...

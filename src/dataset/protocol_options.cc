@@ -3,23 +3,11 @@
 #include <regex>
 #include <stdexcept>
 
-#include "core/enum_names.h"
-
 namespace motionfork {
 
-const char* ToString(SourceFormat format) {
-  static constexpr EnumName<SourceFormat> kNames[] = {{SourceFormat::kBvh, "bvh"},
-                                                      {SourceFormat::kVideoPose3d, "videopose3d"}};
-  return NameOf(format, kNames);
-}
+const char* ToString(SourceFormat format) { return NameOf(format, kSourceFormatNames); }
 
-const char* ToString(RootHandling root) {
-  static constexpr EnumName<RootHandling> kNames[] = {
-      {RootHandling::kRelativeDrop, "relative_drop"},
-      {RootHandling::kRelative, "relative"},
-      {RootHandling::kAbsolute, "absolute"}};
-  return NameOf(root, kNames);
-}
+const char* ToString(RootHandling root) { return NameOf(root, kRootHandlingNames); }
 
 void ValidateProtocol(const ProtocolOptions& o) {
   auto bad = [&](const std::string& field, const std::string& value, const std::string& rule) {

@@ -7,10 +7,20 @@
 #include <utility>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace motionfork {
 
 enum class SourceFormat { kBvh, kVideoPose3d };
 enum class RootHandling { kRelativeDrop, kRelative, kAbsolute };
+
+// Their names in protocol configs (source.format, root).
+inline constexpr EnumName<SourceFormat> kSourceFormatNames[] = {
+    {SourceFormat::kBvh, "bvh"}, {SourceFormat::kVideoPose3d, "videopose3d"}};
+inline constexpr EnumName<RootHandling> kRootHandlingNames[] = {
+    {RootHandling::kRelativeDrop, "relative_drop"},
+    {RootHandling::kRelative, "relative"},
+    {RootHandling::kAbsolute, "absolute"}};
 
 struct ProtocolOptions {
   std::string name;

@@ -2,20 +2,13 @@
 
 #include <stdexcept>
 
-#include "core/enum_names.h"
-
 namespace motionfork {
 
-namespace {
-constexpr EnumName<DenoiseMode> kModeNames[] = {{DenoiseMode::kRegression, "regression"},
-                                                {DenoiseMode::kOptimisation, "optimisation"}};
-}  // namespace
-
-const char* ToString(DenoiseMode mode) { return NameOf(mode, kModeNames); }
+const char* ToString(DenoiseMode mode) { return NameOf(mode, kDenoiseModeNames); }
 
 DenoiseMode ParseDenoiseMode(const std::string& text) {
   if (text == "optimization") return DenoiseMode::kOptimisation;  // the US spelling, not listed
-  return ParseEnumName(text, kModeNames, "denoise mode");
+  return ParseEnumName(text, kDenoiseModeNames, "denoise mode");
 }
 
 void ValidateDvaeOptions(const DvaeOptions& o) {

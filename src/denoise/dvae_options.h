@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/skeleton.h"
 
 namespace motionfork {
@@ -68,6 +69,9 @@ struct DvaeNoisePrior {
 };
 
 enum class DenoiseMode { kRegression, kOptimisation };
+// Their names in configs, bundles and flags (ParseDenoiseMode also takes "optimization").
+inline constexpr EnumName<DenoiseMode> kDenoiseModeNames[] = {
+    {DenoiseMode::kRegression, "regression"}, {DenoiseMode::kOptimisation, "optimisation"}};
 const char* ToString(DenoiseMode mode);
 DenoiseMode ParseDenoiseMode(const std::string& text);  // "regression" | "optimisation"
 

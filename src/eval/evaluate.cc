@@ -17,7 +17,8 @@ double Since(Clock::time_point start) {
 // Running sums for one group of windows.
 struct Sums {
   int windows = 0;
-  double apd = 0, ade = 0, fde = 0, mmade = 0, mmfde = 0, set_size = 0;
+  WindowMetrics metrics;
+  double set_size = 0;
   double apd_varied = 0, apd_fixed = 0;
   std::vector<double> predicted, truth;  // [scorers] per-window means
 
@@ -26,11 +27,7 @@ struct Sums {
   void Add(const WindowMetrics& m, int set_size, double varied, double fixed,
            const std::vector<double>& pred, const std::vector<double>& gt) {
     ++windows;
-    apd += m.apd;
-    ade += m.ade;
-    fde += m.fde;
-    mmade += m.mmade;
-    mmfde += m.mmfde;
+    metrics += m;
     this->set_size += set_size;
     apd_varied += varied;
     apd_fixed += fixed;
@@ -47,11 +44,7 @@ struct Sums {
     f.windows = windows;
     if (windows == 0) return f;
     const double n = windows;
-    f.apd = apd / n;
-    f.ade = ade / n;
-    f.fde = fde / n;
-    f.mmade = mmade / n;
-    f.mmfde = mmfde / n;
+    static_cast<WindowMetrics&>(f) = metrics / n;
     f.mean_set_size = set_size / n;
     f.apd_varied = apd_varied / n;
     f.apd_fixed = apd_fixed / n;

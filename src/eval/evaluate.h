@@ -43,14 +43,10 @@ struct EvalOptions {
   std::function<void(int done, int total)> progress;
 };
 
-// Means over windows, metres (scores: means over frames, in the scorer's unit).
-struct Figures {
+// Means over windows: the window metrics (metres) and more (scores: means over frames, in the
+// scorer's unit).
+struct Figures : WindowMetrics {
   int windows = 0;
-  double apd = 0;
-  double ade = 0;
-  double fde = 0;
-  double mmade = 0;
-  double mmfde = 0;
   double mean_set_size = 0;  // multimodal set size, the window itself included
   // Controllable setting only (fixed_part >= 0): APD over the pose-vector components of the joints
   // outside the fixed part, and over the fixed part's own (its spread across samples).

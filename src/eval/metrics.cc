@@ -190,4 +190,22 @@ void DisplacementWorkspace::Run(const float* samples, int K, int T, int D,
   }
 }
 
+WindowMetrics& operator+=(WindowMetrics& sum, const WindowMetrics& m) {
+  sum.apd += m.apd;
+  sum.ade += m.ade;
+  sum.fde += m.fde;
+  sum.mmade += m.mmade;
+  sum.mmfde += m.mmfde;
+  return sum;
+}
+
+WindowMetrics operator/(WindowMetrics sum, double n) {
+  sum.apd /= n;
+  sum.ade /= n;
+  sum.fde /= n;
+  sum.mmade /= n;
+  sum.mmfde /= n;
+  return sum;
+}
+
 }  // namespace motionfork

@@ -64,4 +64,8 @@ struct WindowMetrics {
   double mmfde = 0;
 };
 
+// Several windows' metrics summed (each figure on its own), and the sum over n windows as means.
+WindowMetrics& operator+=(WindowMetrics& sum, const WindowMetrics& m);
+WindowMetrics operator/(WindowMetrics sum, double n);
+
 }  // namespace motionfork

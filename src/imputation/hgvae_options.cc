@@ -2,19 +2,12 @@
 
 #include <stdexcept>
 
-#include "core/enum_names.h"
-
 namespace motionfork {
 
-namespace {
-constexpr EnumName<ImputeObjective> kObjectiveNames[] = {{ImputeObjective::kPosterior, "posterior"},
-                                                         {ImputeObjective::kJoint, "joint"}};
-}  // namespace
-
-const char* ToString(ImputeObjective objective) { return NameOf(objective, kObjectiveNames); }
+const char* ToString(ImputeObjective objective) { return NameOf(objective, kImputeObjectiveNames); }
 
 ImputeObjective ParseImputeObjective(const std::string& text) {
-  return ParseEnumName(text, kObjectiveNames, "impute objective");
+  return ParseEnumName(text, kImputeObjectiveNames, "impute objective");
 }
 
 void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {

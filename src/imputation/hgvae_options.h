@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
+
 namespace motionfork {
 
 // One stochastic level: its latent graph (nodes x features).
@@ -54,6 +56,9 @@ enum class ImputeObjective {
                // prior
   kJoint,      // the same plus log p(x | z = posterior means): also asks the decoder to explain x
 };
+// Their names in configs, bundles and flags.
+inline constexpr EnumName<ImputeObjective> kImputeObjectiveNames[] = {
+    {ImputeObjective::kPosterior, "posterior"}, {ImputeObjective::kJoint, "joint"}};
 const char* ToString(ImputeObjective objective);
 ImputeObjective ParseImputeObjective(const std::string& text);  // "posterior" | "joint"
 

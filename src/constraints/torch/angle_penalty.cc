@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "constraints/vector_registers.h"
+
 namespace motionfork {
 namespace {
 
@@ -45,21 +47,10 @@ struct Registers {
       const int64_t* op = p.ops + 3 * r;
       T* out = &v[4 * r];
       if (op[0] == 0) {
-        const T* a = f + 3 * op[1];
-        const T* b = f + 3 * op[2];
-        out[0] = b[0] - a[0];
-        out[1] = b[1] - a[1];
-        out[2] = b[2] - a[2];
-        out[3] = out[0] * out[0] + out[1] * out[1] + out[2] * out[2];
-        bad[r] = !(out[3] > min_len2);
+        bad[r] = BoneRegister(f, op[1], op[2], min_len2, out);
       } else {
-        const T* u = &v[4 * op[1]];
-        const T* w = &v[4 * op[2]];
-        out[0] = u[1] * w[2] - u[2] * w[1];
-        out[1] = u[2] * w[0] - u[0] * w[2];
-        out[2] = u[0] * w[1] - u[1] * w[0];
-        out[3] = out[0] * out[0] + out[1] * out[1] + out[2] * out[2];
-        bad[r] = bad[op[1]] | bad[op[2]] | !(out[3] > min_sin2 * u[3] * w[3]);
+        bad[r] =
+            CrossRegister(&v[4 * op[1]], &v[4 * op[2]], bad[op[1]] | bad[op[2]], min_sin2, out);
       }
     }
   }

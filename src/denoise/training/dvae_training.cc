@@ -1,15 +1,18 @@
 #include "denoise/training/dvae_training.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <random>
 #include <set>
 #include <sstream>
 
 #include "bundle/dvae_bundle.h"
+#include "bundle/manifest.h"
 #include "core/motion_noise.h"
 #include "dataset/windows.h"
 #include "denoise/dvae_objective.h"
@@ -17,6 +20,7 @@
 #include "io/file_util.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
+#include "torch_util/training_loop.h"
 
 namespace motionfork {
 
@@ -24,24 +28,13 @@ namespace fs = std::filesystem;
 
 DvaeData MakeDvaeData(const Dataset& dataset, double held_out_share, uint64_t seed, int window) {
   DvaeData data;
-  std::vector<int> clips;
-  for (int c : dataset.ClipIndices(Split::kTrain)) {
-    if (dataset.clips[c].motion.num_frames() >= window) clips.push_back(c);
+  const HeldOutClips split =
+      HoldOutTrainingClips(dataset, window, held_out_share, seed, "Motion-DVAE training");
+  for (int c : split.clips) {
+    (split.held_out.count(c) ? data.held_out : data.train)
+        .push_back(dataset.clips[c].motion.positions());
   }
-  if (clips.size() < 2) {
-    throw std::invalid_argument(
-        "Motion-DVAE training: expected at least 2 training clips of >= " + std::to_string(window) +
-        " frames, found " + std::to_string(clips.size()));
-  }
-  std::vector<int> order = clips;
-  std::shuffle(order.begin(), order.end(), std::mt19937_64(seed));
-  const size_t held =
-      std::max<size_t>(1, static_cast<size_t>(std::lround(held_out_share * order.size())));
-  const std::set<int> held_out(order.begin(), order.begin() + held);
-  for (int c : clips) {
-    (held_out.count(c) ? data.held_out : data.train).push_back(dataset.clips[c].motion.positions());
-  }
-  data.joints = dataset.clips[clips[0]].motion.num_joints();
+  data.joints = dataset.clips[split.clips[0]].motion.num_joints();
   return data;
 }
 
@@ -102,39 +95,31 @@ void ComputeNormalisation(const DvaeData& data, int window, DvaeManifest* m) {
   }
 }
 
-double AnnealWeight(int epochs, double start, double progress) {
-  if (epochs <= 0) return 1.0;
-  return start + (1.0 - start) * std::min(1.0, progress / epochs);
+// Step `it` of `iterations`: its five loss terms (the loss first, which must be finite: `what`
+// names the run in the error) added to the epoch's sums, the mean loss so far to cb.step.
+void AddStep(const std::array<torch::Tensor, 5>& terms, const char* what, int epoch, int it,
+             int iterations, const DvaeTrainCallbacks& cb, double (&sums)[5]) {
+  double v[5];
+  for (int k = 0; k < 5; ++k) v[k] = terms[k].item<double>();
+  RequireFiniteLoss(v[0], what, epoch);
+  for (int k = 0; k < 5; ++k) sums[k] += v[k];
+  if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
 }
 
-void SetLearningRate(torch::optim::Adam& adam, double lr) {
-  for (auto& group : adam.param_groups())
-    static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
-}
-
-// Appends one epoch to OUT/log.csv (header first when the file is new).
-void AppendLog(const fs::path& file, const DvaeEpochLog& log) {
-  const bool fresh = !fs::exists(file);
-  std::ofstream csv(file, std::ios::app);
-  if (fresh) {
-    csv << "epoch,kl_weight,seconds";
-    for (const auto& kv : log.terms) csv << "," << kv.first;
-    csv << "\n";
-  }
-  csv << log.epoch + 1 << "," << log.kl_weight << "," << log.seconds;
-  for (const auto& kv : log.terms) csv << "," << kv.second;
-  csv << "\n";
-}
-
-void SetInfo(DvaeManifest* m, const std::string& key, const std::string& value) {
-  m->info.erase(std::remove_if(m->info.begin(), m->info.end(),
-                               [&](const auto& kv) { return kv.first == key; }),
-                m->info.end());
-  m->info.emplace_back(key, value);
-}
-
-double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+// An epoch's log, appended to `file` (OUT/log.csv): the means over the epoch's `iterations` steps
+// of their five terms (`names`), then the held-out figures.
+DvaeEpochLog LogEpoch(const fs::path& file, int epoch, double kl_weight, double seconds,
+                      const std::array<const char*, 5>& names, const double (&sums)[5],
+                      int iterations,
+                      std::initializer_list<std::pair<std::string, double>> held_out) {
+  DvaeEpochLog log;
+  log.epoch = epoch;
+  log.kl_weight = kl_weight;
+  log.seconds = seconds;
+  for (int k = 0; k < 5; ++k) log.terms.emplace_back(names[k], sums[k] / iterations);
+  log.terms.insert(log.terms.end(), held_out.begin(), held_out.end());
+  AppendEpochLog(file, "kl_weight", log.epoch, log.kl_weight, log.seconds, log.terms);
+  return log;
 }
 
 }  // namespace
@@ -153,13 +138,8 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
   DvaeNet net = BuildDvaeNet(m);
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
-  fs::create_directories(ckpt);
   DvaeTrainSummary summary;
-  summary.first_epoch = LoadCheckpoint(ckpt.string(), "dvae.pt", *net, adam);
-  if (summary.first_epoch > 0 && cb.message) {
-    cb.message("resuming from " + ckpt.string() + " after epoch " +
-               std::to_string(summary.first_epoch));
-  }
+  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, cb.message);
   const std::vector<int> frames = ClipFrames(data.train, F);
   const WindowBatch held = HeldOutBatch(data, W, t.held_out_windows);
   const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
@@ -179,22 +159,12 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
         AddWindow(data.train[w.clip], J, w.start, W, &batch);
       }
       const torch::Tensor x = norm.Normalise(batch.values.data(), B, W);
-      beta = AnnealWeight(t.kl_anneal_epochs, t.kl_start,
-                          epoch + static_cast<double>(it) / iterations);
+      beta = AnnealedWeight(t.kl_start, t.kl_anneal_epochs,
+                            epoch + static_cast<double>(it) / iterations);
       const PriorTerms terms = PriorObjective(net, norm, x, beta, t.bone_weight, gen);
-      adam.zero_grad();
-      terms.loss.backward();
-      torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
-      adam.step();
-      const double v[5] = {terms.loss.item<double>(), terms.nll.item<double>(),
-                           terms.kl.item<double>(), terms.bone.item<double>(),
-                           terms.x0.item<double>()};
-      if (!std::isfinite(v[0])) {
-        throw std::runtime_error("Motion-DVAE training: the loss became non-finite at epoch " +
-                                 std::to_string(epoch + 1));
-      }
-      for (int k = 0; k < 5; ++k) sums[k] += v[k];
-      if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
+      OptimizerStep(adam, terms.loss, net->parameters(), t.grad_clip);
+      AddStep({terms.loss, terms.nll, terms.kl, terms.bone, terms.x0}, "Motion-DVAE training",
+              epoch, it, iterations, cb, sums);
     }
     // Held-out: negative ELBO (one posterior sample, fixed seed) and the reconstruction error of
     // the posterior means, cm per joint.
@@ -211,22 +181,16 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
           ((p.mean - x.slice(1, 1)) * norm.std()).reshape({held.count, W - 1, J, 3});
       mpjpe = d.norm(2, -1).mean().item<double>() * 100;
     }
-    DvaeEpochLog log;
-    log.epoch = epoch;
-    log.kl_weight = beta;
-    log.seconds = Seconds(epoch_start);
-    log.terms = {{"loss", sums[0] / iterations},   {"nll", sums[1] / iterations},
-                 {"kl", sums[2] / iterations},     {"bone_cm2", sums[3] / iterations},
-                 {"x0_nll", sums[4] / iterations}, {"held_out_neg_elbo", nelbo},
-                 {"held_out_recon_cm", mpjpe}};
-    AppendLog(out / "log.csv", log);
-    SetInfo(&m, "epochs_trained", std::to_string(epoch + 1));
+    const DvaeEpochLog log = LogEpoch(out / "log.csv", epoch, beta, SecondsSince(epoch_start),
+                                      {"loss", "nll", "kl", "bone_cm2", "x0_nll"}, sums, iterations,
+                                      {{"held_out_neg_elbo", nelbo}, {"held_out_recon_cm", mpjpe}});
+    SetManifestInfo(&m.info, "epochs_trained", std::to_string(epoch + 1));
     SaveDvaeBundle(out_dir, m, net);
     SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1);
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }
-  summary.seconds = Seconds(start);
+  summary.seconds = SecondsSince(start);
   return summary;
 }
 
@@ -250,7 +214,7 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   m.finetune_noise = t.noise;
   m.noise_prior = config.noise_prior;
   m.denoise = config.denoise;
-  SetInfo(&m, "finetune_config", config.name);
+  SetManifestInfo(&m.info, "finetune_config", config.name);
   const DvaeTensors norm(m);
   for (torch::Tensor& p : net->DecoderParameters()) p.set_requires_grad(false);
   const std::vector<torch::Tensor> trained = net->EncoderParameters();
@@ -259,17 +223,13 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   for (const std::string& s : t.noise) kinds.push_back(ParseNoiseSpec(s));
 
   const fs::path out(out_dir), ckpt = out / "checkpoint", state = ckpt / "finetune_best.txt";
-  fs::create_directories(ckpt);
   DvaeTrainSummary summary;
-  summary.first_epoch = LoadCheckpoint(ckpt.string(), "dvae.pt", *net, adam);
+  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, cb.message);
   double best = INFINITY;
   int bad_epochs = 0;
   if (summary.first_epoch > 0) {
     std::ifstream in(state);
     in >> best >> bad_epochs;
-    if (cb.message)
-      cb.message("resuming from " + ckpt.string() + " after epoch " +
-                 std::to_string(summary.first_epoch));
   }
   // Held-out noisy windows, the same every epoch: each window gets every noise kind in turn.
   const WindowBatch clean = HeldOutBatch(data, W, 1000);
@@ -307,22 +267,12 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
         AddWindow(noisy_clip, J, 0, W, &batch);
       }
       const torch::Tensor y = norm.Normalise(batch.values.data(), B, W);
-      beta = AnnealWeight(t.kl_anneal_epochs, t.kl_start,
-                          epoch + static_cast<double>(it) / iterations);
+      beta = AnnealedWeight(t.kl_start, t.kl_anneal_epochs,
+                            epoch + static_cast<double>(it) / iterations);
       const DenoiseTerms terms = DenoiseObjective(net, norm, y, beta, t.bone_weight, gen);
-      adam.zero_grad();
-      terms.loss.backward();
-      torch::nn::utils::clip_grad_norm_(trained, t.grad_clip);
-      adam.step();
-      const double v[5] = {terms.loss.item<double>(), terms.data.item<double>(),
-                           terms.kl_z.item<double>(), terms.kl_v.item<double>(),
-                           terms.bone.item<double>()};
-      if (!std::isfinite(v[0])) {
-        throw std::runtime_error("Motion-DVAE fine-tuning: the loss became non-finite at epoch " +
-                                 std::to_string(epoch + 1));
-      }
-      for (int k = 0; k < 5; ++k) sums[k] += v[k];
-      if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
+      OptimizerStep(adam, terms.loss, trained, t.grad_clip);
+      AddStep({terms.loss, terms.data, terms.kl_z, terms.kl_v, terms.bone},
+              "Motion-DVAE fine-tuning", epoch, it, iterations, cb, sums);
     }
     net->eval();
     double held_loss = 0, err_noisy = 0, err_denoised = 0;
@@ -344,19 +294,16 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
       err_noisy = cm(y);
       err_denoised = cm(out);
     }
-    DvaeEpochLog log;
-    log.epoch = epoch;
-    log.kl_weight = beta;
-    log.seconds = Seconds(epoch_start);
-    log.terms = {{"loss", sums[0] / iterations},     {"data", sums[1] / iterations},
-                 {"kl_z", sums[2] / iterations},     {"kl_v", sums[3] / iterations},
-                 {"bone_cm2", sums[4] / iterations}, {"held_out_loss", held_loss},
-                 {"held_out_noisy_cm", err_noisy},   {"held_out_denoised_cm", err_denoised}};
-    AppendLog(out / "log.csv", log);
+    const DvaeEpochLog log =
+        LogEpoch(out / "log.csv", epoch, beta, SecondsSince(epoch_start),
+                 {"loss", "data", "kl_z", "kl_v", "bone_cm2"}, sums, iterations,
+                 {{"held_out_loss", held_loss},
+                  {"held_out_noisy_cm", err_noisy},
+                  {"held_out_denoised_cm", err_denoised}});
     if (held_loss < best) {
       best = held_loss;
       bad_epochs = 0;
-      SetInfo(&m, "finetune_epoch", std::to_string(epoch + 1));
+      SetManifestInfo(&m.info, "finetune_epoch", std::to_string(epoch + 1));
       SaveDvaeBundle(out_dir, m, net);
     } else {
       ++bad_epochs;
@@ -369,7 +316,7 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }
-  summary.seconds = Seconds(start);
+  summary.seconds = SecondsSince(start);
   return summary;
 }
 

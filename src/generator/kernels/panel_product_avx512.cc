@@ -64,25 +64,13 @@ void Rows(const float* x, int64_t ldx, const PackedWeight& w, float* z) {
   }
 }
 
+// Rows<r> for a tail of 1 <= r < kTileRows rows (Rows<kTileRows> for any other r).
 void RowsTail(int r, const float* x, int64_t ldx, const PackedWeight& w, float* z) {
-  switch (r) {
-    case 1:
-      return Rows<1>(x, ldx, w, z);
-    case 2:
-      return Rows<2>(x, ldx, w, z);
-    case 3:
-      return Rows<3>(x, ldx, w, z);
-    case 4:
-      return Rows<4>(x, ldx, w, z);
-    case 5:
-      return Rows<5>(x, ldx, w, z);
-    case 6:
-      return Rows<6>(x, ldx, w, z);
-    case 7:
-      return Rows<7>(x, ldx, w, z);
-    default:
-      return Rows<kTileRows>(x, ldx, w, z);
-  }
+  using RowsKernel = void (*)(const float*, int64_t, const PackedWeight&, float*);
+  static constexpr RowsKernel kTails[] = {Rows<1>, Rows<2>, Rows<3>, Rows<4>,
+                                          Rows<5>, Rows<6>, Rows<7>};
+  static_assert(sizeof(kTails) / sizeof(kTails[0]) == kTileRows - 1, "one kernel per tail length");
+  (r >= 1 && r < kTileRows ? kTails[r - 1] : Rows<kTileRows>)(x, ldx, w, z);
 }
 
 // RN output rows (nodes rows[0..RN)) x V column vectors (16 floats each) from column c0: the

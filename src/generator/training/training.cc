@@ -12,6 +12,7 @@
 #include "generator/model/latents.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
+#include "torch_util/training_loop.h"
 
 namespace motionfork {
 
@@ -75,14 +76,11 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   GeneratorNet net(model.generator, plan.nodes);
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
-  fs::create_directories(ckpt);
-
   TrainSummary summary;
-  summary.first_epoch = LoadCheckpoint(ckpt.string(), "generator.pt", *net, adam);
-  if (summary.first_epoch > 0) {
-    if (cb.message)
-      cb.message("resuming from " + ckpt.string() + " at epoch " +
-                 std::to_string(summary.first_epoch + 1));
+  summary.first_epoch = ResumeFromCheckpoint(ckpt, "generator.pt", *net, adam);
+  if (summary.first_epoch > 0 && cb.message) {
+    cb.message("resuming from " + ckpt.string() + " at epoch " +
+               std::to_string(summary.first_epoch + 1));
   }
 
   const int N = data.num_nodes, T = data.num_frames(), Bh = t.batch_histories;
@@ -91,16 +89,12 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
   const int iterations = t.windows_per_epoch / Bh;
   const auto start = std::chrono::steady_clock::now();
-  std::ofstream csv;
-  const bool new_log = !fs::exists(out / "log.csv");
-  csv.open(out / "log.csv", std::ios::app);
 
   for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
     if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
     const auto epoch_start = std::chrono::steady_clock::now();
     const double lr = LearningRate(t, epoch);
-    for (auto& group : adam.param_groups())
-      static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+    SetLearningRate(adam, lr);
     net->train();
     std::mt19937_64 rng(t.seed * 1000003ull + epoch);
     at::Generator gen = MakeGenerator(t.seed * 7919ull + epoch);
@@ -137,10 +131,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
       const LossTerms terms =
           ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);
-      adam.zero_grad();
-      terms.total.backward();
-      torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
-      adam.step();
+      OptimizerStep(adam, terms.total, net->parameters(), t.grad_clip);
       if (sums.empty()) {
         sums.emplace_back("total", 0.0);
         for (const auto& [name, v] : terms.terms) sums.emplace_back(name, 0.0);
@@ -155,16 +146,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       }
     }
     for (auto& s : sums) s.second /= iterations;
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
-    if (new_log && epoch == summary.first_epoch) {
-      csv << "epoch,lr,seconds";
-      for (const auto& s : sums) csv << "," << s.first;
-      csv << "\n";
-    }
-    csv << epoch + 1 << "," << lr << "," << seconds;
-    for (const auto& s : sums) csv << "," << s.second;
-    csv << "\n" << std::flush;
+    const double seconds = SecondsSince(epoch_start);
+    AppendEpochLog(out / "log.csv", "lr", epoch, lr, seconds, sums);
     // Bundle first, then the checkpoint that marks the epoch as done.
     SaveGeneratorBundle(out_dir, model, net);
     net->train();
@@ -172,7 +155,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(epoch, sums, seconds);
   }
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = SecondsSince(start);
   return summary;
 }
 

@@ -10,12 +10,14 @@
 #include <sstream>
 
 #include "bundle/hgvae_bundle.h"
+#include "bundle/manifest.h"
 #include "dataset/windows.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/hgvae_tensors.h"
 #include "io/file_util.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
+#include "torch_util/training_loop.h"
 
 namespace motionfork {
 
@@ -23,28 +25,17 @@ namespace fs = std::filesystem;
 
 HgvaeData MakeHgvaeData(const Dataset& dataset, const HgvaeTrainOptions& options, int window) {
   HgvaeData data;
-  std::vector<int> clips;
-  for (int c : dataset.ClipIndices(Split::kTrain)) {
-    if (dataset.clips[c].motion.num_frames() >= window) clips.push_back(c);
-  }
-  if (clips.size() < 2) {
-    throw std::invalid_argument(
-        "HG-VAE training: expected at least 2 training clips of >= " + std::to_string(window) +
-        " frames, found " + std::to_string(clips.size()));
-  }
+  const HeldOutClips split = HoldOutTrainingClips(dataset, window, options.held_out_share,
+                                                  options.seed, "HG-VAE training");
+  const std::vector<int>& clips = split.clips;
   if (options.condition == "action") {
     std::set<std::string> names;
     for (int c : clips) names.insert(dataset.clips[c].action);
     data.classes.assign(names.begin(), names.end());
   }
-  std::vector<int> order = clips;
-  std::shuffle(order.begin(), order.end(), std::mt19937_64(options.seed));
-  const size_t held =
-      std::max<size_t>(1, static_cast<size_t>(std::lround(options.held_out_share * order.size())));
-  const std::set<int> held_out(order.begin(), order.begin() + held);
   for (int c : clips) {
     const Clip& clip = dataset.clips[c];
-    HgvaeClips& dst = held_out.count(c) ? data.held_out : data.train;
+    HgvaeClips& dst = split.held_out.count(c) ? data.held_out : data.train;
     dst.poses.push_back(PoseVectorsWithoutRoot(clip.motion));
     int label = -1;
     if (!data.classes.empty()) {
@@ -112,12 +103,6 @@ void SetScoreStatistics(const std::vector<double>& scores, HgvaeManifest* m) {
   m->score_std = std::sqrt(var / std::max<size_t>(1, scores.size() - 1));
 }
 
-double KlWeight(const HgvaeTrainOptions& t, double epoch_progress) {
-  if (t.kl_warmup_epochs <= 0) return 1.0;
-  const double f = std::min(1.0, epoch_progress / t.kl_warmup_epochs);
-  return t.kl_start + (1.0 - t.kl_start) * f;
-}
-
 }  // namespace
 
 HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest& base,
@@ -135,15 +120,8 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   HgvaeNet net = BuildHgvaeNet(m);
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
-  fs::create_directories(ckpt);
-
   HgvaeTrainSummary summary;
-  summary.first_epoch = LoadCheckpoint(ckpt.string(), "hgvae.pt", *net, adam);
-  if (summary.first_epoch > 0) {
-    if (cb.message)
-      cb.message("resuming from " + ckpt.string() + " after epoch " +
-                 std::to_string(summary.first_epoch));
-  }
+  summary.first_epoch = ResumeTraining(ckpt, "hgvae.pt", *net, adam, cb.message);
   std::vector<int> frames;
   for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
   const std::vector<float> held = HeldOutWindows(data.held_out, T, N, t.held_out_windows);
@@ -153,8 +131,6 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   double log_det = 0;  // normalised -> metres: log p_metres(x) = log p_norm(x) - T * sum log std
   for (double s : m.std) log_det += T * std::log(s);
 
-  const bool new_log = !fs::exists(out / "log.csv");
-  std::ofstream csv(out / "log.csv", std::ios::app);
   const auto start = std::chrono::steady_clock::now();
   for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
     if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
@@ -178,19 +154,15 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
         if (C > 0 && !drop(rng)) labels[b][data.train.labels[w.clip]] = 1.0f;
       }
       const torch::Tensor x = norm.ToNodeMajor(batch.data(), B);
-      beta = KlWeight(t, epoch + static_cast<double>(it) / iterations);
+      beta = AnnealedWeight(t.kl_start, t.kl_warmup_epochs,
+                            epoch + static_cast<double>(it) / iterations);
       const HgvaeOutput o = net->forward(x, labels, LatentMode::kSample, gen);
       const torch::Tensor nll = -HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar).mean();
       const torch::Tensor kl = o.kl.mean();
       const torch::Tensor loss = nll + beta * kl;
-      adam.zero_grad();
-      loss.backward();
-      torch::nn::utils::clip_grad_norm_(net->parameters(), t.grad_clip);
-      adam.step();
+      OptimizerStep(adam, loss, net->parameters(), t.grad_clip);
       const double l = loss.item<double>(), n = nll.item<double>(), k = kl.item<double>();
-      if (!std::isfinite(l))
-        throw std::runtime_error("HG-VAE training: the loss became non-finite at epoch " +
-                                 std::to_string(epoch + 1));
+      RequireFiniteLoss(l, "HG-VAE training", epoch);
       sum_loss += l;
       sum_nll += n;
       sum_kl += k;
@@ -224,8 +196,7 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
     HgvaeEpochLog log;
     log.epoch = epoch;
     log.kl_weight = beta;
-    log.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - epoch_start).count();
+    log.seconds = SecondsSince(epoch_start);
     log.terms = {{"loss", sum_loss / iterations},
                  {"nll", sum_nll / iterations},
                  {"kl", sum_kl / iterations}};
@@ -236,24 +207,14 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
     log.terms.emplace_back("held_out_mse_m2", mse / (static_cast<double>(num_held) * T * N));
     log.terms.emplace_back("held_out_score_mean", m.score_mean);
     log.terms.emplace_back("held_out_score_std", m.score_std);
-    if (new_log && epoch == summary.first_epoch) {
-      csv << "epoch,kl_weight,seconds";
-      for (const auto& [k, v] : log.terms) csv << "," << k;
-      csv << "\n";
-    }
-    csv << epoch + 1 << "," << beta << "," << log.seconds;
-    for (const auto& [k, v] : log.terms) csv << "," << v;
-    csv << "\n" << std::flush;
-    m.info.erase(std::remove_if(m.info.begin(), m.info.end(),
-                                [](const auto& kv) { return kv.first == "epochs_trained"; }),
-                 m.info.end());
-    m.info.emplace_back("epochs_trained", std::to_string(epoch + 1));
+    AppendEpochLog(out / "log.csv", "kl_weight", epoch, beta, log.seconds, log.terms);
+    SetManifestInfo(&m.info, "epochs_trained", std::to_string(epoch + 1));
     SaveHgvaeBundle(out_dir, m, net);
     SaveCheckpoint(ckpt.string(), "hgvae.pt", *net, adam, epoch + 1);
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary.seconds = SecondsSince(start);
   return summary;
 }
 

@@ -1,0 +1,73 @@
+#include "torch_util/training_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#include "torch_util/checkpoint.h"
+
+namespace motionfork {
+
+namespace fs = std::filesystem;
+
+int ResumeFromCheckpoint(const fs::path& ckpt_dir, const std::string& weights_name,
+                         torch::nn::Module& module, torch::optim::Optimizer& optimizer) {
+  fs::create_directories(ckpt_dir);
+  return LoadCheckpoint(ckpt_dir.string(), weights_name, module, optimizer);
+}
+
+int ResumeTraining(const fs::path& ckpt_dir, const std::string& weights_name,
+                   torch::nn::Module& module, torch::optim::Optimizer& optimizer,
+                   const std::function<void(const std::string&)>& message) {
+  const int epochs_done = ResumeFromCheckpoint(ckpt_dir, weights_name, module, optimizer);
+  if (epochs_done > 0 && message) {
+    message("resuming from " + ckpt_dir.string() + " after epoch " + std::to_string(epochs_done));
+  }
+  return epochs_done;
+}
+
+void OptimizerStep(torch::optim::Optimizer& optimizer, const torch::Tensor& loss,
+                   const std::vector<torch::Tensor>& params, double grad_clip) {
+  optimizer.zero_grad();
+  loss.backward();
+  torch::nn::utils::clip_grad_norm_(params, grad_clip);
+  optimizer.step();
+}
+
+void RequireFiniteLoss(double loss, const std::string& what, int epoch) {
+  if (!std::isfinite(loss)) {
+    throw std::runtime_error(what + ": the loss became non-finite at epoch " +
+                             std::to_string(epoch + 1));
+  }
+}
+
+void SetLearningRate(torch::optim::Adam& adam, double lr) {
+  for (auto& group : adam.param_groups())
+    static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+}
+
+double AnnealedWeight(double start, int epochs, double progress) {
+  if (epochs <= 0) return 1.0;
+  return start + (1.0 - start) * std::min(1.0, progress / epochs);
+}
+
+double SecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void AppendEpochLog(const fs::path& file, const std::string& column, int epoch, double value,
+                    double seconds, const std::vector<std::pair<std::string, double>>& terms) {
+  const bool fresh = !fs::exists(file);
+  std::ofstream csv(file, std::ios::app);
+  if (fresh) {
+    csv << "epoch," << column << ",seconds";
+    for (const auto& kv : terms) csv << "," << kv.first;
+    csv << "\n";
+  }
+  csv << epoch + 1 << "," << value << "," << seconds;
+  for (const auto& kv : terms) csv << "," << kv.second;
+  csv << "\n";
+}
+
+}  // namespace motionfork
