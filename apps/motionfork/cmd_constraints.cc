@@ -126,9 +126,7 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global) {
       "skeleton); their ranges, if any, are replaced.");
   fit->add_option("--protocol", f->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  fit->add_option("--data", f->data, "Data folder of the protocol (as for 'dataset stats')")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  AddDataOption(fit, &f->data, "Data folder of the protocol (as for 'dataset stats')");
   fit->add_option("-o,--out", *out, "Constraint YAML to write (required)");
   AddDeprecatedOption(fit, "--output", "-o/--out", out.get());
   fit->add_option("--constraints", f->constraints,

@@ -5,6 +5,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "core/resample.h"
+#include "flags.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
 
@@ -44,7 +45,7 @@ void AddConvertCommand(CLI::App& app, GlobalOptions& global) {
       "22-joint\n"
       "Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted\n"
       "with tools/videopose3d_to_motionfork.py.");
-  cmd->add_option("IN", o->in, "Input motion file")->required()->check(CLI::ExistingFile);
+  AddInputFile(cmd, "IN", &o->in, "Input motion file");
   cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")->required();
   AddMotionInputOptions(cmd, &o->input);
   cmd->add_option("--resample", o->target_fps,

@@ -6,13 +6,12 @@
 #include "app_common.h"
 #include "commands.h"
 #include "dataset/dataset_stats.h"
-#include "dataset_loading.h"
+#include "dataset/dataset_stats_json.h"
+#include "experiment_common.h"
 #include "flags.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 struct StatsOptions {
   std::string protocol;
@@ -20,15 +19,6 @@ struct StatsOptions {
   std::string split_file;
   std::string json;
 };
-
-json SplitJson(const SplitStats& s) {
-  return {{"clips", s.clips_listed},
-          {"usable", s.usable},
-          {"frames", s.frames},
-          {"test_windows", s.test_windows},
-          {"train_windows", s.train_windows},
-          {"skipped", s.clips_listed - s.usable}};
-}
 
 void PrintSplits(const DatasetStats& stats, double fps) {
   std::printf("\n%-6s %8s %8s %12s %12s %14s %16s\n", "split", "clips", "usable", "frames",
@@ -53,11 +43,9 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
   std::printf("data:      %s (%s in %s)\n", o.data.c_str(),
               ds.from_cache ? "from the cache" : "parsed", Duration(ds.seconds_reading).c_str());
   std::printf("sources:  ");
-  json sources = json::object();
   for (size_t i = 0; i < ds.groups.size(); ++i) {
     std::printf("%s %s %s clips", i ? " +" : "", ds.groups[i].first.c_str(),
                 WithThousands(ds.groups[i].second).c_str());
-    sources[ds.groups[i].first] = ds.groups[i].second;
   }
   std::printf(" = %s clips\n", WithThousands(stats.clips).c_str());
   std::printf("split:     %s train, %s test%s\n", WithThousands(stats.train.clips_listed).c_str(),
@@ -79,15 +67,7 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
     std::printf("warning: %s clips named by the split file were not found (first: %s)\n",
                 WithThousands(ds.split_missing.size()).c_str(), ds.split_missing.front().c_str());
   }
-  EmitJson(o.json, {{"protocol", p.name},
-                    {"fps", p.fps},
-                    {"t_his", p.t_his},
-                    {"t_pred", p.t_pred},
-                    {"clips", stats.clips},
-                    {"sources", sources},
-                    {"train", SplitJson(stats.train)},
-                    {"test", SplitJson(stats.test)},
-                    {"split_missing", ds.split_missing.size()}});
+  EmitJson(o.json, DatasetStatsJson(ds, stats));
 }
 
 }  // namespace
@@ -103,12 +83,9 @@ void AddDatasetCommand(CLI::App& app, GlobalOptions& global) {
   stats
       ->add_option("--protocol", o->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  stats
-      ->add_option("--data", o->data,
-                   "Data folder (Bandai: the folder with the .tar.xz archives or unpacked .bvh; "
-                   "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  AddDataOption(stats, &o->data,
+                "Data folder (Bandai: the folder with the .tar.xz archives or unpacked .bvh; "
+                "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)");
   stats->add_option("--split", o->split_file, "Split file overriding the protocol's split.file");
   AddJsonOption(stats, &o->json, "Every figure");
   stats->callback([o, &global] { RunStats(*o, global); });

@@ -10,6 +10,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "core/error.h"
+#include "flags.h"
 #include "io/bvh.h"
 #include "io/bvh_writer.h"
 #include "io/file_util.h"
@@ -60,12 +61,9 @@ void AddExportCommand(CLI::App& app, GlobalOptions& /*global*/) {
       "every\n"
       "position by giving stretching bones translation channels. Check a file in Blender with\n"
       "tools/blender_check_bvh.py.");
-  cmd->add_option("PREDICTION", o->prediction,
-                  "Prediction written by 'motionfork predict' (.json or .npy)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", o->out, "Output path ending in .bvh; written all-or-nothing")
-      ->required();
+  AddInputFile(cmd, "PREDICTION", &o->prediction,
+               "Prediction written by 'motionfork predict' (.json or .npy)");
+  AddOutOption(cmd, &o->out, "Output path ending in .bvh; written all-or-nothing");
   cmd->add_option("--sample", o->sample, "Only this sample (0-based), written to OUT itself")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--lengths", o->lengths,

@@ -74,8 +74,7 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
       "metres;\n"
       "the root stays where the history ended: models predict root-relative poses) and OUT.json\n"
       "(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).");
-  cmd->add_option("--model", o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)")
-      ->required();
+  AddModelOption(cmd, &o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)");
   AddMotionArgument(cmd, &o->files.history, "Motion file holding the history (.bvh, .npy, .csv)",
                     "--history");
   cmd->add_option("--start", o->files.start,
@@ -103,7 +102,7 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
                   "Motion-DVAE bundle (e.g. models/bandai/dvae) denoising the history first (after "
                   "--impute), with\n"
                   "up to one model window of earlier frames as context");
-  cmd->add_option("-o,--out", o->out, "Output path (OUT.npy and OUT.json are written)")->required();
+  AddOutOption(cmd, &o->out, "Output path (OUT.npy and OUT.json are written)");
   AddMotionInputOptions(cmd, &o->files.input);
   cmd->callback([o, &global] {
     RequireMotion(o->files.history);

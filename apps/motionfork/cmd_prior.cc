@@ -17,13 +17,12 @@
 #include "io/motion_file.h"
 #include "motion_options.h"
 #include "pipeline/prior_score.h"
+#include "pipeline/prior_score_json.h"
 #include "pipeline/prior_training.h"
 #include "torch_util/threads.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
 
@@ -155,29 +154,6 @@ void RunTrain(pipeline::PriorTrainingRequest o, GlobalOptions& g) {
 // ---------------------------------------------------------------------------------------------
 // score
 
-json ScoreJson(const ScoreOptions& o, const PosePrior& prior, const Motion& motion,
-               const pipeline::PriorScore& s) {
-  const int T = static_cast<int>(s.nll.size());
-  const bool known = std::isfinite(s.held_out_q99);
-  return {{"file", o.file},
-          {"model", o.model},
-          {"skeleton", prior.skeleton().name()},
-          {"frames", T},
-          {"fps", motion.fps()},
-          {"unit", "nats per pose"},
-          {"nll", s.nll},
-          {"summary",
-           {{"mean", s.mean},
-            {"median", s.median},
-            {"min", s.min},
-            {"best_frame", s.best_frame},
-            {"max", s.max},
-            {"worst_frame", s.worst_frame},
-            {"held_out_q50", s.held_out_q50},
-            {"held_out_q99", s.held_out_q99},
-            {"frames_above_held_out_q99", known ? json(s.above_q99) : json()}}}};
-}
-
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const PosePrior prior = LoadPosePrior(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
@@ -187,7 +163,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const int T = static_cast<int>(s.nll.size());
   const bool known = std::isfinite(s.held_out_q99);
   if (o.json == "-") {
-    EmitJson("-", ScoreJson(o, prior, motion, s));
+    EmitJson("-", pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));
     return;
   }
   std::printf("file:      %s (%d frames at %.6g Hz)\n", o.file.c_str(), T, motion.fps());
@@ -213,7 +189,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
         "%d of %d (%.1f%%)\n",
         s.held_out_q50, s.held_out_q99, s.above_q99, T, 100.0 * s.above_q99 / T);
   }
-  EmitJson(o.json, ScoreJson(o, prior, motion, s));
+  EmitJson(o.json, pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -246,11 +222,7 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
   train
       ->add_option("--protocol", t->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  train
-      ->add_option("--data", t->data,
-                   "Data folder of the protocol (see 'motionfork dataset stats')")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  AddDataOption(train, &t->data, "Data folder of the protocol (see 'motionfork dataset stats')");
   train->add_option("--out", t->out, "Output folder for the bundle and the checkpoint")->required();
   train->add_option("--config", t->config,
                     "Prior config name in configs/models/ or YAML path (default: flow_prior)");
@@ -273,10 +245,8 @@ void AddPriorScore(CLI::App* prior, GlobalOptions& global) {
       "real held-out poses scored in training (frames above their 99th percentile are flagged).\n"
       "The motion is put on the prior's skeleton: by joint names, by index (.npy), or through the\n"
       "skeleton config the prior was trained with (e.g. a 22-joint Bandai BVH).");
-  score->add_option("MOTION", s->file, "Motion file (.bvh, .npy, .csv)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  score->add_option("--model", s->model, "Prior bundle folder (holding prior.yaml)")->required();
+  AddInputFile(score, "MOTION", &s->file, "Motion file (.bvh, .npy, .csv)");
+  AddModelOption(score, &s->model, "Prior bundle folder (holding prior.yaml)");
   AddMotionInputOptions(score, &s->input);
   AddJsonOption(score, &s->json, "The per-frame NLL and the summary, instead of text,");
   score->add_flag("--summary-only", s->summary_only, "Text output without the per-frame table");
@@ -292,7 +262,7 @@ void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
       "puts\n"
       "real poses. One pose per frame, root at the origin, the training data's mean bone lengths,\n"
       "at the protocol's frame rate.");
-  sample->add_option("--model", m->model, "Prior bundle folder (holding prior.yaml)")->required();
+  AddModelOption(sample, &m->model, "Prior bundle folder (holding prior.yaml)");
   sample->add_option("-n,--count", m->count, "Number of poses")
       ->required()
       ->check(CLI::PositiveNumber);

@@ -122,12 +122,10 @@ void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
       "samples tinted). FILE.html: a self-contained viewer (no network) animating the history and "
       "the\n"
       "futures side by side, with play/pause, a frame slider, sample selection and speed.");
-  cmd->add_option("INPUT", o->input,
-                  "A prediction (.json, or .npy with its .json beside it) or a motion file (.bvh, "
-                  ".npy, .csv)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", o->out, "Output file: .png, .svg or .html")->required();
+  AddInputFile(cmd, "INPUT", &o->input,
+               "A prediction (.json, or .npy with its .json beside it) or a motion file (.bvh, "
+               ".npy, .csv)");
+  AddOutOption(cmd, &o->out, "Output file: .png, .svg or .html");
   cmd->add_option("--count", o->samples,
                   "Samples shown: the first N (default 5 in a figure, all in the viewer)")
       ->check(CLI::Range(1, 1000000));

@@ -7,6 +7,7 @@
 #include "config/config_paths.h"
 #include "config/skeleton_config.h"
 #include "core/demo_motion.h"
+#include "flags.h"
 #include "io/motion_file.h"
 
 namespace motionfork::app {
@@ -41,8 +42,7 @@ void AddSynthCommand(CLI::App& app, GlobalOptions& global) {
       "built-in history, and a quick input for trying any command. Hip, knee and arm swing,\n"
       "the pelvis riding on the lower foot; Bandai protocol skeleton (17 joints), metres, Y up.");
   cmd->add_option("KIND", o->kind, "Motion to make (walk)")->check(CLI::IsMember({"walk"}));
-  cmd->add_option("-o,--out", o->out, "Output file (.npy, .csv or .bvh); written all-or-nothing")
-      ->required();
+  AddOutOption(cmd, &o->out, "Output file (.npy, .csv or .bvh); written all-or-nothing");
   cmd->add_option("--frames", o->walk.frames, "Frames (default 60)")->check(CLI::PositiveNumber);
   cmd->add_option("--fps", o->walk.fps, "Frame rate, Hz (default 30)")->check(CLI::PositiveNumber);
   cmd->add_option("--speed", o->walk.speed, "Walking speed, m/s (default 1.2)");
