@@ -4,7 +4,6 @@
 // not, 2 bad input.
 #include <algorithm>
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
@@ -107,13 +106,12 @@ void RunCheck(const CheckOptions& o, GlobalOptions& g) {
 }  // namespace
 
 void AddCheckCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<CheckOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "check",
-      "Check every frame of a motion against angle-range constraints (configs/constraints/).\n"
-      "Prints the violation rate of each constraint, the worst frames with their angles and the\n"
-      "share of valid frames (every angle defined and inside its range).\n"
-      "Exit status: 0 every frame is valid, 1 some frame is not, 2 bad input or usage.");
+  const auto [cmd, o] = AddSubcommand<CheckOptions>(
+      &app, global, RunCheck, "check",
+      R"(Check every frame of a motion against angle-range constraints (configs/constraints/).
+Prints the violation rate of each constraint, the worst frames with their angles and the
+share of valid frames (every angle defined and inside its range).
+Exit status: 0 every frame is valid, 1 some frame is not, 2 bad input or usage.)");
   AddInputFile(cmd, "MOTION", &o->file, "Motion file (.bvh, .npy, .csv)");
   cmd->add_option(
       "--constraints", o->constraints,
@@ -127,7 +125,6 @@ void AddCheckCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--angles", o->angles_csv,
                   "Also write every frame's angles (degrees; empty = undefined) to this CSV file");
-  cmd->callback([o, &global] { RunCheck(*o, global); });
 }
 
 }  // namespace motionfork::app

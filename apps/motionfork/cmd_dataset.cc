@@ -1,6 +1,5 @@
 // motionfork dataset stats: what a protocol makes of a data folder.
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
@@ -75,11 +74,10 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
 void AddDatasetCommand(CLI::App& app, GlobalOptions& global) {
   CLI::App* dataset = app.add_subcommand("dataset", "Datasets under a protocol");
   dataset->require_subcommand(1);
-  auto o = std::make_shared<StatsOptions>();
-  CLI::App* stats = dataset->add_subcommand(
-      "stats",
-      "Clips, frames and windows per split of a data folder under a protocol.\n"
-      "The first run parses the files and writes a cache; later runs read the cache.");
+  const auto [stats, o] = AddSubcommand<StatsOptions>(
+      dataset, global, RunStats, "stats",
+      R"(Clips, frames and windows per split of a data folder under a protocol.
+The first run parses the files and writes a cache; later runs read the cache.)");
   stats
       ->add_option("--protocol", o->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
@@ -88,7 +86,6 @@ void AddDatasetCommand(CLI::App& app, GlobalOptions& global) {
                 "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)");
   stats->add_option("--split", o->split_file, "Split file overriding the protocol's split.file");
   AddJsonOption(stats, &o->json, "Every figure");
-  stats->callback([o, &global] { RunStats(*o, global); });
 }
 
 }  // namespace motionfork::app

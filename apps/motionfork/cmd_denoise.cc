@@ -2,18 +2,17 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "bundle/dvae_bundle.h"
+#include "commands.h"
 #include "core/error.h"
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_model.h"
 #include "denoise/training/dvae_evaluation.h"
 #include "denoise/training/dvae_evaluation_json.h"
-#include "dvae_commands.h"
 #include "experiment_common.h"
 #include "flags.h"
 #include "generator/training/history_forecaster.h"
@@ -73,13 +72,11 @@ struct DenoiseCmd {
 };
 
 void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
+  RequireMotion(o.motion);
   PinThreads(o.threads);
   const DvaeModel model = LoadDvaeModel(o.model);
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
-                                   skeleton, model.manifest().fps, {}, 0);
-  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
   pipeline::RequireComplete(o.motion, in.missing,
                             "fill them first ('motionfork impute'), then denoise");
   Motion motion = in.motion;
@@ -206,11 +203,10 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
 }  // namespace
 
 void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
-  auto d = std::make_shared<DenoiseCmd>();
-  CLI::App* cmd = app.add_subcommand(
-      "denoise",
-      "Denoise a motion file (estimated, noisy joint positions) with a Motion-DVAE bundle, e.g.\n"
-      "models/bandai/dvae. Windows of the model's length every 'stride' frames, blended.");
+  const auto [cmd, d] = AddSubcommand<DenoiseCmd>(
+      &app, global, RunDenoise, "denoise",
+      R"(Denoise a motion file (estimated, noisy joint positions) with a Motion-DVAE bundle, e.g.
+models/bandai/dvae. Windows of the model's length every 'stride' frames, blended.)");
   AddModelOption(cmd, &d->model, "Motion-DVAE bundle folder")->check(CLI::ExistingDirectory);
   AddMotionArgument(cmd, &d->motion, "Motion file (.npy, .csv, .bvh, .npz)", "--motion");
   AddOutOption(cmd, &d->out, "Output motion file (format from the extension)");
@@ -221,22 +217,15 @@ void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
   AddThreadsOption(cmd, &d->threads);
   AddDenoiseFlags(cmd, &d->flags);
   AddMotionInputOptions(cmd, &d->input);
-  cmd->callback([d, &global] {
-    RequireMotion(d->motion);
-    RunDenoise(*d, global);
-  });
 }
 
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
-  auto e = std::make_shared<EvalCmd>();
-  CLI::App* cmd = dvae.add_subcommand("eval",
-                                      "Denoising figures on a protocol's test split: error of "
-                                      "noisy, smoothed (baseline), denoised\n"
-                                      "(regression mode) and optimised (optimisation mode) motion "
-                                      "against the clean one for each noise\n"
-                                      "kind, acceleration against the clean motion's, speed, and "
-                                      "with --forecaster the forecasting\n"
-                                      "ADE/FDE from noisy and denoised histories.");
+  const auto [cmd, e] = AddSubcommand<EvalCmd>(
+      &dvae, global, RunEval, "eval",
+      R"(Denoising figures on a protocol's test split: error of noisy, smoothed (baseline), denoised
+(regression mode) and optimised (optimisation mode) motion against the clean one for each noise
+kind, acceleration against the clean motion's, speed, and with --forecaster the forecasting
+ADE/FDE from noisy and denoised histories.)");
   AddModelOption(cmd, &e->model, "Motion-DVAE bundle folder")->check(CLI::ExistingDirectory);
   AddDataOptions(cmd, &e->data, &e->split_file, "Data folder of the bundle's protocol");
   cmd->add_option(
@@ -256,7 +245,6 @@ void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
   AddThreadsOption(cmd, &e->threads);
   AddJsonOption(cmd, &e->json_out, "The figures");
   AddDenoiseFlags(cmd, &e->flags);
-  cmd->callback([e, &global] { RunEval(*e, global); });
 }
 
 }  // namespace motionfork::app

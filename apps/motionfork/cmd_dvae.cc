@@ -1,7 +1,6 @@
 // motionfork dvae: the Motion-DVAE motion prior and its unsupervised denoising training:
 // `dvae train` (clean windows) and `dvae finetune` (noisy windows, regression mode).
 #include <cstdio>
-#include <memory>
 
 #include "app_common.h"
 #include "bundle/dvae_bundle.h"
@@ -9,7 +8,6 @@
 #include "config/config_paths.h"
 #include "denoise/training/dvae_training.h"
 #include "denoise/training/dvae_training_manifest.h"
-#include "dvae_commands.h"
 #include "experiment_common.h"
 #include "flags.h"
 
@@ -108,28 +106,21 @@ void AddDvaeCommand(CLI::App& app, GlobalOptions& global) {
       "unsupervised\n"
       "denoising training. Use the result with 'motionfork denoise' or 'predict --denoise'.");
   dv->require_subcommand(1);
-  auto t = std::make_shared<DvaeTrainCmd>();
-  CLI::App* train = dv->add_subcommand("train",
-                                       "Train the motion prior (configs/models/NAME.yaml, 'model' "
-                                       "and 'training') on clean windows of a\n"
-                                       "protocol's training split. Every epoch writes the bundle, "
-                                       "a row of OUT/log.csv and a checkpoint;\n"
-                                       "running the same command again resumes.");
+  const auto [train, t] = AddSubcommand<DvaeTrainCmd>(
+      dv, global, RunTrain, "train",
+      R"(Train the motion prior (configs/models/NAME.yaml, 'model' and 'training') on clean windows of a
+protocol's training split. Every epoch writes the bundle, a row of OUT/log.csv and a checkpoint;
+running the same command again resumes.)");
   AddCommonOptions(train, t.get());
-  train->callback([t, &global] { RunTrain(*t, global); });
-  auto f = std::make_shared<DvaeTrainCmd>();
-  CLI::App* finetune = dv->add_subcommand("finetune",
-                                          "Unsupervised denoising training ('regression mode', the "
-                                          "config's 'finetune'): windows of the\n"
-                                          "training split corrupted by the config's noise kinds, "
-                                          "no clean targets; the encoder, initial-state\n"
-                                          "and noise predictors learn, the prior stays fixed. "
-                                          "Early stopping on a held-out loss; resumable.");
+  const auto [finetune, f] = AddSubcommand<DvaeTrainCmd>(
+      dv, global, RunFinetune, "finetune",
+      R"(Unsupervised denoising training ('regression mode', the config's 'finetune'): windows of the
+training split corrupted by the config's noise kinds, no clean targets; the encoder, initial-state
+and noise predictors learn, the prior stays fixed. Early stopping on a held-out loss; resumable.)");
   AddCommonOptions(finetune, f.get());
   finetune->add_option("--prior", f->prior, "Motion prior bundle from 'dvae train'")
       ->required()
       ->check(CLI::ExistingDirectory);
-  finetune->callback([f, &global] { RunFinetune(*f, global); });
   AddDvaeEvalCommand(*dv, global);
 }
 

@@ -2,7 +2,6 @@
 // overall and per action (generator/training/eval_experiment.h does the work).
 #include <cstdio>
 #include <filesystem>
-#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -114,12 +113,11 @@ void RunEval(EvalCommandOptions o, const GlobalOptions& g) {
 }  // namespace
 
 void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<EvalCommandOptions>();
-  EvalExperimentOptions& e = o->experiment;
-  CLI::App* cmd = app.add_subcommand(
-      "eval",
+  const auto [cmd, o] = AddSubcommand<EvalCommandOptions>(
+      &app, global, RunEval, "eval",
       "Evaluate a predictor on a protocol's test windows: APD, ADE, FDE, MMADE, MMFDE (metres, "
       "whole pose vectors, K samples per history), overall and per action.");
+  EvalExperimentOptions& e = o->experiment;
   cmd->add_option("--baseline", e.baseline,
                   "Non-learned predictor: zero-velocity (every sample repeats the last pose) or "
                   "nearest-neighbours (K training futures, stride-5 windows, re-targeted)");
@@ -155,7 +153,6 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       "With --model: score the network's raw futures, without moving poses that break the "
       "bundle's angle ranges back inside them");
   AddJsonOption(cmd, &o->json, "Every figure");
-  cmd->callback([o, &global] { RunEval(*o, global); });
 }
 
 }  // namespace motionfork::app

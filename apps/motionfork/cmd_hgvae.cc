@@ -1,7 +1,5 @@
 // motionfork hgvae: the HG-VAE motion-window model: train, sample, evaluate.
 #include <cstdio>
-#include <filesystem>
-#include <memory>
 
 #include "app_common.h"
 #include "bundle/hgvae_bundle.h"
@@ -9,7 +7,6 @@
 #include "config/config_paths.h"
 #include "experiment_common.h"
 #include "flags.h"
-#include "hgvae_commands.h"
 #include "imputation/training/hgvae_training.h"
 #include "imputation/training/hgvae_training_manifest.h"
 
@@ -80,17 +77,14 @@ void AddHgvaeCommand(CLI::App& app, GlobalOptions& global) {
       "values, out-of-distribution scores, sampling). See also 'motionfork impute' and 'motionfork "
       "ood'.");
   hg->require_subcommand(1);
-  auto t = std::make_shared<HgvaeTrainCmd>();
-  CLI::App* train = hg->add_subcommand("train",
-                                       "Train an HG-VAE (configs/models/NAME.yaml) on a protocol's "
-                                       "training split. Every epoch writes\n"
-                                       "the bundle (OUT/hgvae.yaml, OUT/hgvae.pt), a row of "
-                                       "OUT/log.csv and a checkpoint; running the\n"
-                                       "same command again resumes where it stopped.");
+  const auto [train, t] = AddSubcommand<HgvaeTrainCmd>(
+      hg, global, RunHgvaeTrain, "train",
+      R"(Train an HG-VAE (configs/models/NAME.yaml) on a protocol's training split. Every epoch writes
+the bundle (OUT/hgvae.yaml, OUT/hgvae.pt), a row of OUT/log.csv and a checkpoint; running the
+same command again resumes where it stopped.)");
   train->add_option("--config", t->config,
                     "Config name (configs/models/) or YAML path (default hgvae_bandai)");
   AddTrainingRunOptions(train, &t->run, "Output folder (bundle, log, checkpoint)");
-  train->callback([t, &global] { RunHgvaeTrain(*t, global); });
   AddHgvaeSampleCommand(*hg, global);
   AddHgvaeEvalCommand(*hg, global);
 }

@@ -1,22 +1,20 @@
 // motionfork impute / ood / hgvae sample / hgvae eval: using a trained HG-VAE.
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "bundle/hgvae_bundle.h"
+#include "commands.h"
 #include "core/error.h"
 #include "experiment_common.h"
 #include "flags.h"
 #include "generator/training/history_forecaster.h"
-#include "hgvae_commands.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
 #include "imputation/motion_imputation_json.h"
 #include "imputation/motion_imputation_summary.h"
+#include "imputation/motion_sampling.h"
 #include "imputation/training/hgvae_evaluation.h"
 #include "imputation/training/hgvae_evaluation_json.h"
 #include "io/motion_file.h"
@@ -60,12 +58,10 @@ struct ImputeCmd {
 };
 
 void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
+  RequireMotion(o.motion);
   const HgvaeModel model = LoadHgvaeModel(o.model);
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
-                                   skeleton, model.manifest().fps, o.masks, o.seed);
-  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+  const MotionWithGaps in = LoadMotionForModel(o.motion, o.input, g, model.skeleton(),
+                                               model.manifest().fps, o.masks, o.seed);
   const ImputeOptions options = o.flags.Apply(model.manifest().impute);
   MotionImputation r;
   try {
@@ -104,12 +100,10 @@ struct OodCmd {
 };
 
 void RunOod(const OodCmd& o, GlobalOptions& g) {
+  RequireMotion(o.motion);
   const HgvaeModel model = LoadHgvaeModel(o.model);
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
-                                   skeleton, model.manifest().fps, {}, 0);
-  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
   pipeline::RequireComplete(o.motion, in.missing,
                             "impute them first ('motionfork impute'), or score the imputed file");
   std::vector<WindowScore> scores;
@@ -147,18 +141,10 @@ struct SampleCmd {
 void RunSample(const SampleCmd& o, const GlobalOptions&) {
   const HgvaeModel model = LoadHgvaeModel(o.model);
   const int ci = model.ClassIndex(o.cls);
-  const std::vector<float> w = model.Sample(o.count, ci, o.seed, !o.mean_latents);
-  const int T = model.window(), N = model.coords(), J = model.skeleton().num_joints();
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  // Windows are root-relative: the root stays at the origin. Samples follow one another.
-  std::vector<float> pos(static_cast<size_t>(o.count) * T * J * 3, 0.0f);
-  for (size_t f = 0; f < static_cast<size_t>(o.count) * T; ++f) {
-    std::copy(w.begin() + f * N, w.begin() + (f + 1) * N, pos.begin() + f * J * 3 + 3);
-  }
-  WriteMotionFile(o.out, Motion(skeleton, model.manifest().fps, std::move(pos)));
+  WriteMotionFile(o.out, SampleMotion(model, o.count, ci, o.seed, !o.mean_latents));
   std::printf(
       "wrote %s: %d sample%s of %d frames (%.6g Hz) one after another%s, root at the origin\n",
-      o.out.c_str(), o.count, o.count == 1 ? "" : "s", T, model.manifest().fps,
+      o.out.c_str(), o.count, o.count == 1 ? "" : "s", model.window(), model.manifest().fps,
       ci >= 0 ? (", class '" + o.cls + "'").c_str() : "");
 }
 
@@ -238,15 +224,12 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
 }  // namespace
 
 void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<ImputeCmd>();
-  CLI::App* cmd = app.add_subcommand("impute",
-                                     "Fill the missing values of a motion with an HG-VAE: NaN "
-                                     "values in .npy, empty or nan fields in\n"
-                                     ".csv, and/or --mask. Missing values start at the training "
-                                     "mean and are moved by Adam to raise\n"
-                                     "the model's score (the bundle's objective); each window "
-                                     "keeps its best step. Observed values\n"
-                                     "are kept exactly.");
+  const auto [cmd, o] = AddSubcommand<ImputeCmd>(
+      &app, global, RunImpute, "impute",
+      R"(Fill the missing values of a motion with an HG-VAE: NaN values in .npy, empty or nan fields in
+.csv, and/or --mask. Missing values start at the training mean and are moved by Adam to raise
+the model's score (the bundle's objective); each window keeps its best step. Observed values
+are kept exactly.)");
   AddModelOption(cmd, &o->model,
                  "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae");
   AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
@@ -261,19 +244,13 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   AddImputeFlags(cmd, &o->flags);
   AddOutOption(cmd, &o->out, "Output motion file (.npy, .csv or .bvh)");
   AddMotionInputOptions(cmd, &o->input);
-  cmd->callback([o, &global] {
-    RequireMotion(o->motion);
-    RunImpute(*o, global);
-  });
 }
 
 void AddOodCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<OodCmd>();
-  CLI::App* cmd = app.add_subcommand("ood",
-                                     "Score a motion's windows with an HG-VAE and flag those out "
-                                     "of distribution: posterior score\n"
-                                     "below the training windows' mean - k std (k in the bundle). "
-                                     "Exit status 1 when any window is flagged.");
+  const auto [cmd, o] = AddSubcommand<OodCmd>(
+      &app, global, RunOod, "ood",
+      R"(Score a motion's windows with an HG-VAE and flag those out of distribution: posterior score
+below the training windows' mean - k std (k in the bundle). Exit status 1 when any window is flagged.)");
   AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
   cmd->add_option("--stride", o->stride,
@@ -282,17 +259,12 @@ void AddOodCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   AddJsonOption(cmd, &o->json_out, "The scores");
   AddMotionInputOptions(cmd, &o->input);
-  cmd->callback([o, &global] {
-    RequireMotion(o->motion);
-    RunOod(*o, global);
-  });
 }
 
 void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {
-  auto o = std::make_shared<SampleCmd>();
-  CLI::App* cmd = hgvae.add_subcommand("sample",
-                                       "Sample motion windows from an HG-VAE's prior, optionally "
-                                       "of one class (conditional models).");
+  const auto [cmd, o] = AddSubcommand<SampleCmd>(&hgvae, global, RunSample, "sample",
+                                                 "Sample motion windows from an HG-VAE's prior, "
+                                                 "optionally of one class (conditional models).");
   AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   cmd->add_option("--class", o->cls, "Class to sample (e.g. walk); default none (unconditional)");
   cmd->add_option("-n,--count", o->count,
@@ -301,18 +273,14 @@ void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {
   cmd->add_option("--seed", o->seed, "Random seed (default 0)");
   cmd->add_flag("--mean-latents", o->mean_latents, "Each level's prior mean instead of a sample");
   AddOutOption(cmd, &o->out, "Output motion file (.npy, .csv or .bvh)");
-  cmd->callback([o, &global] { RunSample(*o, global); });
 }
 
 void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global) {
-  auto o = std::make_shared<EvalCmd>();
-  CLI::App* cmd = hgvae.add_subcommand("eval",
-                                       "An HG-VAE's figures on its protocol's test split: "
-                                       "likelihood (ELBO, KL per level), imputation\n"
-                                       "MSE vs mean imputation (random 1/10/50/90% of values, "
-                                       "whole limbs), out-of-distribution AUROC,\n"
-                                       "and with --forecaster the forecasting ADE/FDE from clean, "
-                                       "mean-imputed and imputed histories.");
+  const auto [cmd, o] = AddSubcommand<EvalCmd>(
+      &hgvae, global, RunEval, "eval",
+      R"(An HG-VAE's figures on its protocol's test split: likelihood (ELBO, KL per level), imputation
+MSE vs mean imputation (random 1/10/50/90% of values, whole limbs), out-of-distribution AUROC,
+and with --forecaster the forecasting ADE/FDE from clean, mean-imputed and imputed histories.)");
   AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   AddDataOptions(cmd, &o->data, &o->split_file, "Data folder of the model's protocol");
   cmd->add_option("--windows", o->eval.windows, "Test windows, spread evenly (default 1000)")
@@ -323,7 +291,6 @@ void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global) {
   cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
   AddImputeFlags(cmd, &o->flags);
   AddJsonOption(cmd, &o->json_out, "Every figure");
-  cmd->callback([o, &global] { RunEval(*o, global); });
 }
 
 }  // namespace motionfork::app

@@ -1,6 +1,5 @@
 // motionfork info FILE: what a motion file holds.
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
@@ -58,13 +57,12 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
 }  // namespace
 
 void AddInfoCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<InfoOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "info", "Show a motion file's skeleton, frames, frame rate, duration and bounding box");
+  const auto [cmd, o] = AddSubcommand<InfoOptions>(
+      &app, global, RunInfo, "info",
+      "Show a motion file's skeleton, frames, frame rate, duration and bounding box");
   AddInputFile(cmd, "FILE", &o->file, "Motion file (.bvh, .npy, .csv)");
   AddMotionInputOptions(cmd, &o->input);
   AddJsonOption(cmd, &o->json, "The report, instead of text on stdout,");
-  cmd->callback([o, &global] { RunInfo(*o, global); });
 }
 
 }  // namespace motionfork::app

@@ -1,7 +1,6 @@
 // motionfork prior train|score|sample: the pose prior (GSPS normalizing flow on limb directions).
 #include <unistd.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -196,6 +195,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
 // sample
 
 void RunSample(const SampleOptions& o, const GlobalOptions&) {
+  RequireArgument(o.output, "-o,--out");
   FormatOfPath(o.output);  // fail on an unsupported extension before any work
   const PosePrior prior = LoadPosePrior(o.model);
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;
@@ -209,9 +209,9 @@ void RunSample(const SampleOptions& o, const GlobalOptions&) {
 }
 
 void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
-  auto t = std::make_shared<pipeline::PriorTrainingRequest>();
-  CLI::App* train = prior->add_subcommand(
-      "train", "Train a pose prior on single frames of a protocol's training split");
+  const auto [train, t] = AddSubcommand<pipeline::PriorTrainingRequest>(
+      prior, global, RunTrain, "train",
+      "Train a pose prior on single frames of a protocol's training split");
   train->footer(
       "A share of the training clips is held out to measure the NLL after every epoch; the test\n"
       "split is scored once at the end. A checkpoint is written to OUT after every epoch and an\n"
@@ -233,13 +233,12 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
       ->check(CLI::PositiveNumber);
   train->add_flag("--restart", t->restart,
                   "Discard a checkpoint or trained prior in OUT and train from the start");
-  train->callback([t, &global] { RunTrain(*t, global); });
 }
 
 void AddPriorScore(CLI::App* prior, GlobalOptions& global) {
-  auto s = std::make_shared<ScoreOptions>();
-  CLI::App* score = prior->add_subcommand(
-      "score", "Per-frame negative log-likelihood of a motion under a prior, and a summary");
+  const auto [score, s] = AddSubcommand<ScoreOptions>(
+      prior, global, RunScore, "score",
+      "Per-frame negative log-likelihood of a motion under a prior, and a summary");
   score->footer(
       "NLL is in nats per pose; lower = more plausible. The summary compares the frames with what\n"
       "real held-out poses scored in training (frames above their 99th percentile are flagged).\n"
@@ -250,12 +249,11 @@ void AddPriorScore(CLI::App* prior, GlobalOptions& global) {
   AddMotionInputOptions(score, &s->input);
   AddJsonOption(score, &s->json, "The per-frame NLL and the summary, instead of text,");
   score->add_flag("--summary-only", s->summary_only, "Text output without the per-frame table");
-  score->callback([s, &global] { RunScore(*s, global); });
 }
 
 void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
-  auto m = std::make_shared<SampleOptions>();
-  CLI::App* sample = prior->add_subcommand("sample", "Draw poses from a prior into a motion file");
+  const auto [sample, m] = AddSubcommand<SampleOptions>(
+      prior, global, RunSample, "sample", "Draw poses from a prior into a motion file");
   sample->footer(
       "Poses come from the prior's density on valid poses (unit limb directions): flow samples\n"
       "normalised, then Metropolis-Hastings steps (--steps) that move them to where the prior "
@@ -278,10 +276,6 @@ void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
                    "Metropolis-Hastings steps (default 1000; 0 = raw flow samples, fast but mostly "
                    "implausible)")
       ->check(CLI::NonNegativeNumber);
-  sample->callback([m, &global] {
-    RequireArgument(m->output, "-o,--out");
-    RunSample(*m, global);
-  });
 }
 
 }  // namespace

@@ -1,6 +1,5 @@
 // motionfork train: train a generator from a model config on a protocol's training split.
 #include <cstdio>
-#include <memory>
 
 #include "app_common.h"
 #include "bundle/generator_bundle.h"
@@ -105,19 +104,16 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
 }  // namespace
 
 void AddTrainCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<TrainOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "train",
-      "Train a generator (configs/models/NAME.yaml) on a protocol's training split.\n"
-      "Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and\n"
-      "OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; "
-      "OUT/training.yaml\n"
-      "records the config as read and the split. Running the same command again resumes where it\n"
-      "stopped (--epochs may change; another config or split is refused).");
+  const auto [cmd, o] = AddSubcommand<TrainOptions>(
+      &app, global, RunTrain, "train",
+      R"(Train a generator (configs/models/NAME.yaml) on a protocol's training split.
+Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and
+OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; OUT/training.yaml
+records the config as read and the split. Running the same command again resumes where it
+stopped (--epochs may change; another config or split is refused).)");
   cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")
       ->required();
   AddTrainingRunOptions(cmd, &o->run, "Output folder (bundle, log, checkpoint)");
-  cmd->callback([o, &global] { RunTrain(*o, global); });
 }
 
 }  // namespace motionfork::app

@@ -3,10 +3,31 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "commands.h"
+
 namespace motionfork::app {
+
+// A subcommand and the options its flags fill (they live as long as the callback that runs it).
+template <typename Options>
+struct Subcommand {
+  CLI::App* cmd;
+  std::shared_ptr<Options> options;
+};
+
+// Adds subcommand `name` with its --help description to `parent`; when it is chosen,
+// run(options, global) runs.
+template <typename Options, typename Run>
+Subcommand<Options> AddSubcommand(CLI::App* parent, GlobalOptions& global, Run run,
+                                  const std::string& name, const std::string& description) {
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = parent->add_subcommand(name, description);
+  cmd->callback([options, run, &global] { run(*options, global); });
+  return {cmd, options};
+}
 
 // Prints on stderr that `old_spelling` is deprecated and what to write instead (the old spelling
 // goes away in the next release).
