@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -88,6 +87,28 @@ StageProgress StageBars::Callback() {
     bar_->Update(fraction, detail);
   };
 }
+
+void EpochBars::Update(int epoch, double fraction, const std::string& detail) {
+  if (!bar_) {
+    bar_ = std::make_unique<ProgressBar>(
+        "epoch " + std::to_string(epoch + 1) + "/" + std::to_string(epochs_), enabled_);
+  }
+  bar_->Update(fraction, detail);
+}
+
+void EpochBars::PrintEpoch(int epoch, double seconds,
+                           const std::vector<std::pair<std::string, double>>& terms, int digits,
+                           std::optional<double> kl_weight) {
+  bar_.reset();
+  std::printf("epoch %d/%d (%s", epoch + 1, epochs_, Duration(seconds).c_str());
+  if (kl_weight) std::printf(", kl weight %.3g", *kl_weight);
+  std::printf("):");
+  for (const auto& [name, v] : terms) std::printf(" %s %.*g", name.c_str(), digits, v);
+  std::printf("\n");
+  std::fflush(stdout);
+}
+
+void PrintMessage(const std::string& message) { std::printf("%s\n", message.c_str()); }
 
 std::string WithThousands(long long n) {
   std::string digits = std::to_string(n < 0 ? -n : n);

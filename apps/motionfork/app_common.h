@@ -4,7 +4,10 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/progress.h"
 
@@ -53,6 +56,28 @@ class StageBars {
   std::string stage_;
   std::unique_ptr<ProgressBar> bar_;
 };
+
+// A training run's reports: a bar per epoch ("epoch 3/10"), made on the epoch's first step, and
+// a line per finished epoch on stdout.
+class EpochBars {
+ public:
+  EpochBars(int epochs, bool enabled) : epochs_(epochs), enabled_(enabled) {}
+  void Update(int epoch, double fraction, const std::string& detail);
+  // Ends the bar and prints "epoch 3/10 (12.3 s[, kl weight W]): name value ..." (values with
+  // `digits` significant digits).
+  void PrintEpoch(int epoch, double seconds,
+                  const std::vector<std::pair<std::string, double>>& terms, int digits,
+                  std::optional<double> kl_weight = std::nullopt);
+  void Finish() { bar_.reset(); }
+
+ private:
+  int epochs_;
+  bool enabled_;
+  std::unique_ptr<ProgressBar> bar_;
+};
+
+// Prints a library's message as a line on stdout.
+void PrintMessage(const std::string& message);
 
 // "1,234,567"
 std::string WithThousands(long long n);

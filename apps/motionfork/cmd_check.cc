@@ -4,7 +4,6 @@
 // not, 2 bad input.
 #include <algorithm>
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
@@ -13,11 +12,10 @@
 #include "io/file_util.h"
 #include "motion_options.h"
 #include "pipeline/constraint_check.h"
+#include "pipeline/constraint_check_json.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 constexpr int kExitInvalidFrames = 1;
 
@@ -37,59 +35,6 @@ std::string Percent(double share) {
 }
 
 using pipeline::ConstraintCheck;
-
-json Report(const CheckOptions& o, const ConstraintCheck& b) {
-  const ConstraintSet& set = *b.set;
-  const CheckSummary& s = b.summary;
-  const double fps = b.motion.fps();
-  json constraints = json::array(), worst = json::array();
-  for (int c = 0; c < set.num_constraints(); ++c) {
-    const Constraint& k = set.constraint(c);
-    const ConstraintSummary& cs = s.constraints[c];
-    const bool any_defined = cs.degenerate < s.frames;
-    constraints.push_back({{"name", k.name},
-                           {"side", ToString(k.side)},
-                           {"a", k.a_text},
-                           {"b", k.b_text},
-                           {"lower_deg", k.lower_deg},
-                           {"upper_deg", k.upper_deg},
-                           {"violations", cs.violations()},
-                           {"violation_rate", cs.violation_rate},
-                           {"below", cs.below},
-                           {"above", cs.above},
-                           {"degenerate", cs.degenerate},
-                           {"min_deg", any_defined ? json(cs.min_deg) : json()},
-                           {"max_deg", any_defined ? json(cs.max_deg) : json()},
-                           {"worst_frame", cs.worst_frame >= 0 ? json(cs.worst_frame) : json()},
-                           {"worst_excess_deg", cs.worst_excess_deg}});
-  }
-  for (const FrameViolation& fv : s.worst_frames) {
-    json violations = json::array();
-    for (int c : fv.constraints) {
-      violations.push_back({{"constraint", set.constraint(c).name},
-                            {"angle_deg", b.result.angle(fv.frame, c)},
-                            {"lower_deg", set.constraint(c).lower_deg},
-                            {"upper_deg", set.constraint(c).upper_deg}});
-    }
-    worst.push_back({{"frame", fv.frame},
-                     {"time_s", fv.frame / fps},
-                     {"excess_deg", fv.excess_deg},
-                     {"violations", violations}});
-  }
-  return {{"file", o.file},
-          {"skeleton", b.motion.skeleton().name()},
-          {"constraint_set", set.name()},
-          {"constraints_file", b.path},
-          {"fps", fps},
-          {"frames", s.frames},
-          {"valid_frames", s.valid_frames},
-          {"valid_frame_share", s.valid_frame_share()},
-          {"violating_frames", s.violating_frames},
-          {"violating_frame_share", s.frames ? double(s.violating_frames) / s.frames : 0},
-          {"degenerate_frames", s.degenerate_frames},
-          {"constraints", constraints},
-          {"worst_frames", worst}};
-}
 
 void PrintText(const CheckOptions& o, const ConstraintCheck& b) {
   const ConstraintSet& set = *b.set;
@@ -154,23 +99,20 @@ void RunCheck(const CheckOptions& o, GlobalOptions& g) {
     WriteFileAtomically(o.angles_csv, pipeline::AnglesCsv(*b.set, b.result, b.motion.fps()));
   }
   if (o.json != "-") PrintText(o, b);
-  EmitJson(o.json, Report(o, b));
+  EmitJson(o.json, pipeline::ConstraintCheckJson(o.file, b));
   g.exit_code = b.summary.valid_frames == b.summary.frames ? kExitOk : kExitInvalidFrames;
 }
 
 }  // namespace
 
 void AddCheckCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<CheckOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "check",
-      "Check every frame of a motion against angle-range constraints (configs/constraints/).\n"
-      "Prints the violation rate of each constraint, the worst frames with their angles and the\n"
-      "share of valid frames (every angle defined and inside its range).\n"
-      "Exit status: 0 every frame is valid, 1 some frame is not, 2 bad input or usage.");
-  cmd->add_option("MOTION", o->file, "Motion file (.bvh, .npy, .csv)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  const auto [cmd, o] = AddSubcommand<CheckOptions>(
+      &app, global, RunCheck, "check",
+      R"(Check every frame of a motion against angle-range constraints (configs/constraints/).
+Prints the violation rate of each constraint, the worst frames with their angles and the
+share of valid frames (every angle defined and inside its range).
+Exit status: 0 every frame is valid, 1 some frame is not, 2 bad input or usage.)");
+  AddInputFile(cmd, "MOTION", &o->file, "Motion file (.bvh, .npy, .csv)");
   cmd->add_option(
       "--constraints", o->constraints,
       "Constraint set: shipped name (bandai, h36m, humaneva) or YAML path. Default: the "
@@ -183,7 +125,6 @@ void AddCheckCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--angles", o->angles_csv,
                   "Also write every frame's angles (degrees; empty = undefined) to this CSV file");
-  cmd->callback([o, &global] { RunCheck(*o, global); });
 }
 
 }  // namespace motionfork::app

@@ -1,7 +1,6 @@
 // motionfork constraints fit | show: angle-range constraint sets.
 #include <algorithm>
 #include <cstdio>
-#include <memory>
 
 #include "app_common.h"
 #include "commands.h"
@@ -15,6 +14,11 @@
 
 namespace motionfork::app {
 namespace {
+
+struct FitCmd {
+  pipeline::ConstraintFitRequest request;
+  std::string out;
+};
 
 struct ShowOptions {
   std::string constraints;
@@ -44,7 +48,10 @@ std::string FitCommandLine(const pipeline::ConstraintFitRequest& o, const std::s
   return cmd;
 }
 
-void RunFit(pipeline::ConstraintFitRequest o, const std::string& out, const GlobalOptions& g) {
+void RunFit(const FitCmd& c, const GlobalOptions& g) {
+  RequireArgument(c.out, "-o,--out");
+  const std::string& out = c.out;
+  pipeline::ConstraintFitRequest o = c.request;
   o.command_line = FitCommandLine(o, out);
   o.config_dir = ConfigDir(g.config_dir);
   o.cache_dir = CacheDir(g.cache_dir);
@@ -115,48 +122,41 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global) {
       app.add_subcommand("constraints", "Angle-range constraint sets (configs/constraints/)");
   cmd->require_subcommand(1);
 
-  auto f = std::make_shared<pipeline::ConstraintFitRequest>();
-  auto out = std::make_shared<std::string>();
-  CLI::App* fit = cmd->add_subcommand(
-      "fit",
-      "Fit every constraint's range from the training split of a protocol's data: a low and a\n"
-      "high percentile of the angle over all training frames (left and right pooled), widened by\n"
-      "a margin, written as a constraint YAML (all-or-nothing) whose header records this command.\n"
-      "The definitions come from --constraints (default: the set named like the protocol's\n"
-      "skeleton); their ranges, if any, are replaced.");
-  fit->add_option("--protocol", f->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
+  const auto [fit, o] = AddSubcommand<FitCmd>(
+      cmd, global, RunFit, "fit",
+      R"(Fit every constraint's range from the training split of a protocol's data: a low and a
+high percentile of the angle over all training frames (left and right pooled), widened by
+a margin, written as a constraint YAML (all-or-nothing) whose header records this command.
+The definitions come from --constraints (default: the set named like the protocol's
+skeleton); their ranges, if any, are replaced.)");
+  fit->add_option("--protocol", o->request.protocol,
+                  "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  fit->add_option("--data", f->data, "Data folder of the protocol (as for 'dataset stats')")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  fit->add_option("-o,--out", *out, "Constraint YAML to write (required)");
-  AddDeprecatedOption(fit, "--output", "-o/--out", out.get());
-  fit->add_option("--constraints", f->constraints,
+  AddDataOption(fit, &o->request.data, "Data folder of the protocol (as for 'dataset stats')");
+  fit->add_option("-o,--out", o->out, "Constraint YAML to write (required)");
+  AddDeprecatedOption(fit, "--output", "-o/--out", &o->out);
+  fit->add_option("--constraints", o->request.constraints,
                   "Definitions: shipped name or YAML path (ranges optional)");
-  fit->add_option("--split", f->split_file, "Split file overriding the protocol's split.file");
-  fit->add_option("--low", f->fit.low_percentile, "Low percentile, percent (default 0.1)");
-  fit->add_option("--high", f->fit.high_percentile, "High percentile, percent (default 99.9)");
-  fit->add_option("--margin", f->fit.margin_deg,
+  fit->add_option("--split", o->request.split_file,
+                  "Split file overriding the protocol's split.file");
+  fit->add_option("--low", o->request.fit.low_percentile, "Low percentile, percent (default 0.1)");
+  fit->add_option("--high", o->request.fit.high_percentile,
+                  "High percentile, percent (default 99.9)");
+  fit->add_option("--margin", o->request.fit.margin_deg,
                   "Degrees added outside both percentiles (default 2)");
   fit->add_option(
-      "--round", f->fit.round_deg,
+      "--round", o->request.fit.round_deg,
       "Round the bounds outwards to a multiple of this many degrees (default 0.1; 0 = off)");
-  fit->callback([f, out, &global] {
-    RequireArgument(*out, "-o,--out");
-    RunFit(*f, *out, global);
-  });
 
-  auto s = std::make_shared<ShowOptions>();
-  CLI::App* show = cmd->add_subcommand(
-      "show",
-      "List a constraint set's angles as bound to a skeleton: per-side instances expanded,\n"
-      "joint names resolved, ranges");
+  const auto [show, s] = AddSubcommand<ShowOptions>(
+      cmd, global, RunShow, "show",
+      R"(List a constraint set's angles as bound to a skeleton: per-side instances expanded,
+joint names resolved, ranges)");
   show->add_option("CONSTRAINTS", s->constraints,
                    "Shipped name (bandai, h36m, humaneva) or YAML path")
       ->required();
   show->add_option("--skeleton", s->skeleton,
                    "Skeleton config (default: the set's own 'skeleton')");
-  show->callback([s, &global] { RunShow(*s, global); });
 }
 
 }  // namespace motionfork::app

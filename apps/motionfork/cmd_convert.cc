@@ -1,10 +1,10 @@
 // motionfork convert IN OUT: between motion formats, optionally onto a protocol skeleton.
 #include <cstdio>
-#include <memory>
 
 #include "app_common.h"
 #include "commands.h"
 #include "core/resample.h"
+#include "flags.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
 
@@ -34,17 +34,14 @@ void RunConvert(const ConvertOptions& o, const GlobalOptions& g) {
 }  // namespace
 
 void AddConvertCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<ConvertOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "convert",
-      "Convert a motion file between .bvh, .npy [T, J, 3] and .csv (metres). Writing .bvh fits "
-      "joint\n"
-      "rotations to the positions (needs a skeleton with parents, e.g. --skeleton bandai).\n"
-      "With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g. a "
-      "22-joint\n"
-      "Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted\n"
-      "with tools/videopose3d_to_motionfork.py.");
-  cmd->add_option("IN", o->in, "Input motion file")->required()->check(CLI::ExistingFile);
+  const auto [cmd, o] = AddSubcommand<ConvertOptions>(
+      &app, global, RunConvert, "convert",
+      R"(Convert a motion file between .bvh, .npy [T, J, 3] and .csv (metres). Writing .bvh fits joint
+rotations to the positions (needs a skeleton with parents, e.g. --skeleton bandai).
+With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g. a 22-joint
+Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted
+with tools/videopose3d_to_motionfork.py.)");
+  AddInputFile(cmd, "IN", &o->in, "Input motion file");
   cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")->required();
   AddMotionInputOptions(cmd, &o->input);
   cmd->add_option("--resample", o->target_fps,
@@ -52,7 +49,6 @@ void AddConvertCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--root-relative", o->root_relative,
                 "Subtract the root joint's position in every frame");
-  cmd->callback([o, &global] { RunConvert(*o, global); });
 }
 
 }  // namespace motionfork::app

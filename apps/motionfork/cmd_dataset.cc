@@ -1,18 +1,16 @@
 // motionfork dataset stats: what a protocol makes of a data folder.
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "commands.h"
 #include "dataset/dataset_stats.h"
-#include "dataset_loading.h"
+#include "dataset/dataset_stats_json.h"
+#include "experiment_common.h"
 #include "flags.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 struct StatsOptions {
   std::string protocol;
@@ -20,15 +18,6 @@ struct StatsOptions {
   std::string split_file;
   std::string json;
 };
-
-json SplitJson(const SplitStats& s) {
-  return {{"clips", s.clips_listed},
-          {"usable", s.usable},
-          {"frames", s.frames},
-          {"test_windows", s.test_windows},
-          {"train_windows", s.train_windows},
-          {"skipped", s.clips_listed - s.usable}};
-}
 
 void PrintSplits(const DatasetStats& stats, double fps) {
   std::printf("\n%-6s %8s %8s %12s %12s %14s %16s\n", "split", "clips", "usable", "frames",
@@ -53,11 +42,9 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
   std::printf("data:      %s (%s in %s)\n", o.data.c_str(),
               ds.from_cache ? "from the cache" : "parsed", Duration(ds.seconds_reading).c_str());
   std::printf("sources:  ");
-  json sources = json::object();
   for (size_t i = 0; i < ds.groups.size(); ++i) {
     std::printf("%s %s %s clips", i ? " +" : "", ds.groups[i].first.c_str(),
                 WithThousands(ds.groups[i].second).c_str());
-    sources[ds.groups[i].first] = ds.groups[i].second;
   }
   std::printf(" = %s clips\n", WithThousands(stats.clips).c_str());
   std::printf("split:     %s train, %s test%s\n", WithThousands(stats.train.clips_listed).c_str(),
@@ -79,15 +66,7 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
     std::printf("warning: %s clips named by the split file were not found (first: %s)\n",
                 WithThousands(ds.split_missing.size()).c_str(), ds.split_missing.front().c_str());
   }
-  EmitJson(o.json, {{"protocol", p.name},
-                    {"fps", p.fps},
-                    {"t_his", p.t_his},
-                    {"t_pred", p.t_pred},
-                    {"clips", stats.clips},
-                    {"sources", sources},
-                    {"train", SplitJson(stats.train)},
-                    {"test", SplitJson(stats.test)},
-                    {"split_missing", ds.split_missing.size()}});
+  EmitJson(o.json, DatasetStatsJson(ds, stats));
 }
 
 }  // namespace
@@ -95,23 +74,18 @@ void RunStats(const StatsOptions& o, const GlobalOptions& g) {
 void AddDatasetCommand(CLI::App& app, GlobalOptions& global) {
   CLI::App* dataset = app.add_subcommand("dataset", "Datasets under a protocol");
   dataset->require_subcommand(1);
-  auto o = std::make_shared<StatsOptions>();
-  CLI::App* stats = dataset->add_subcommand(
-      "stats",
-      "Clips, frames and windows per split of a data folder under a protocol.\n"
-      "The first run parses the files and writes a cache; later runs read the cache.");
+  const auto [stats, o] = AddSubcommand<StatsOptions>(
+      dataset, global, RunStats, "stats",
+      R"(Clips, frames and windows per split of a data folder under a protocol.
+The first run parses the files and writes a cache; later runs read the cache.)");
   stats
       ->add_option("--protocol", o->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  stats
-      ->add_option("--data", o->data,
-                   "Data folder (Bandai: the folder with the .tar.xz archives or unpacked .bvh; "
-                   "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  AddDataOption(stats, &o->data,
+                "Data folder (Bandai: the folder with the .tar.xz archives or unpacked .bvh; "
+                "H36M/HumanEva: the output of tools/videopose3d_to_motionfork.py)");
   stats->add_option("--split", o->split_file, "Split file overriding the protocol's split.file");
   AddJsonOption(stats, &o->json, "Every figure");
-  stats->callback([o, &global] { RunStats(*o, global); });
 }
 
 }  // namespace motionfork::app

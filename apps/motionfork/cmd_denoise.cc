@@ -2,34 +2,26 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "bundle/dvae_bundle.h"
+#include "commands.h"
 #include "core/error.h"
 #include "core/motion_noise.h"
-#include "dataset_loading.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_model.h"
 #include "denoise/training/dvae_evaluation.h"
-#include "dvae_commands.h"
+#include "denoise/training/dvae_evaluation_json.h"
+#include "experiment_common.h"
 #include "flags.h"
+#include "generator/training/history_forecaster.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
 #include "torch_util/threads.h"
 
-namespace motionfork {
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DenoisingRow, noise, noisy_cm, smooth_cm, denoised_cm, removed,
-                                   optimised_cm, optimised_noisy_cm, removed_optimised,
-                                   smooth_removed, accel_ratio_noisy, accel_ratio_smooth,
-                                   accel_ratio_denoised, accel_ratio_optimised)
-}  // namespace motionfork
-
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 // --mode / --iterations / --draws / --seed / --blend over the bundle's defaults.
 struct DenoiseFlags {
@@ -80,13 +72,11 @@ struct DenoiseCmd {
 };
 
 void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
+  RequireMotion(o.motion);
   PinThreads(o.threads);
   const DvaeModel model = LoadDvaeModel(o.model);
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
-                                   skeleton, model.manifest().fps, {}, 0);
-  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
   pipeline::RequireComplete(o.motion, in.missing,
                             "fill them first ('motionfork impute'), then denoise");
   Motion motion = in.motion;
@@ -181,10 +171,7 @@ void PrintForecasting(const ForecastingFigures& f) {
       "\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE, clean history "
       "%.3f / %.3f\n",
       f.forecaster.c_str(), f.k, f.windows, f.clean.ade, f.clean.fde);
-  for (const RepairedForecast& s : f.settings) {
-    std::printf("  %-18s noisy %.3f / %.3f   denoised %.3f / %.3f\n", s.setting.c_str(),
-                s.before.ade, s.before.fde, s.after.ade, s.after.fde);
-  }
+  PrintRepairedForecasts(f, 18, "noisy", "denoised");
 }
 
 void RunEval(EvalCmd o, const GlobalOptions& g) {
@@ -209,66 +196,38 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
                 e.optimisation_frames_per_s, e.iterations);
   }
   std::printf("\n");
-  json j = {{"model", o.model},
-            {"clips", e.clips},
-            {"frames", e.frames},
-            {"clean_accel", e.clean_accel},
-            {"samples", e.samples},
-            {"iterations", e.iterations},
-            {"optimisation_clips", e.optimisation_clips},
-            {"regression_frames_per_s", e.regression_frames_per_s},
-            {"settings", json(nlohmann::json(e.settings))}};
-  if (e.optimisation_clips > 0) j["optimisation_frames_per_s"] = e.optimisation_frames_per_s;
-  if (e.forecasting) {
-    PrintForecasting(*e.forecasting);
-    j["forecasting"] = ForecastingJson(*e.forecasting, "noise", "noisy", "denoised");
-  }
-  EmitJson(o.json_out, j);
+  if (e.forecasting) PrintForecasting(*e.forecasting);
+  EmitJson(o.json_out, DvaeEvaluationJson(e, o.model));
 }
 
 }  // namespace
 
 void AddDenoiseCommand(CLI::App& app, GlobalOptions& global) {
-  auto d = std::make_shared<DenoiseCmd>();
-  CLI::App* cmd = app.add_subcommand(
-      "denoise",
-      "Denoise a motion file (estimated, noisy joint positions) with a Motion-DVAE bundle, e.g.\n"
-      "models/bandai/dvae. Windows of the model's length every 'stride' frames, blended.");
-  cmd->add_option("--model", d->model, "Motion-DVAE bundle folder")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  const auto [cmd, d] = AddSubcommand<DenoiseCmd>(
+      &app, global, RunDenoise, "denoise",
+      R"(Denoise a motion file (estimated, noisy joint positions) with a Motion-DVAE bundle, e.g.
+models/bandai/dvae. Windows of the model's length every 'stride' frames, blended.)");
+  AddModelOption(cmd, &d->model, "Motion-DVAE bundle folder")->check(CLI::ExistingDirectory);
   AddMotionArgument(cmd, &d->motion, "Motion file (.npy, .csv, .bvh, .npz)", "--motion");
-  cmd->add_option("-o,--out", d->out, "Output motion file (format from the extension)")->required();
+  AddOutOption(cmd, &d->out, "Output motion file (format from the extension)");
   cmd->add_option(
       "--add-noise", d->noise,
       "Corrupt the input first (a test): gaussian:S, outliers:P,S or jitter:S (metres)");
   cmd->add_option("--noise-seed", d->noise_seed, "Seed of --add-noise (default 0)");
-  cmd->add_option("--threads", d->threads, "Threads (default 1)")->check(CLI::PositiveNumber);
+  AddThreadsOption(cmd, &d->threads);
   AddDenoiseFlags(cmd, &d->flags);
   AddMotionInputOptions(cmd, &d->input);
-  cmd->callback([d, &global] {
-    RequireMotion(d->motion);
-    RunDenoise(*d, global);
-  });
 }
 
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
-  auto e = std::make_shared<EvalCmd>();
-  CLI::App* cmd = dvae.add_subcommand("eval",
-                                      "Denoising figures on a protocol's test split: error of "
-                                      "noisy, smoothed (baseline), denoised\n"
-                                      "(regression mode) and optimised (optimisation mode) motion "
-                                      "against the clean one for each noise\n"
-                                      "kind, acceleration against the clean motion's, speed, and "
-                                      "with --forecaster the forecasting\n"
-                                      "ADE/FDE from noisy and denoised histories.");
-  cmd->add_option("--model", e->model, "Motion-DVAE bundle folder")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  cmd->add_option("--data", e->data, "Data folder of the bundle's protocol")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  cmd->add_option("--split", e->split_file, "Split file overriding the protocol's");
+  const auto [cmd, e] = AddSubcommand<EvalCmd>(
+      &dvae, global, RunEval, "eval",
+      R"(Denoising figures on a protocol's test split: error of noisy, smoothed (baseline), denoised
+(regression mode) and optimised (optimisation mode) motion against the clean one for each noise
+kind, acceleration against the clean motion's, speed, and with --forecaster the forecasting
+ADE/FDE from noisy and denoised histories.)");
+  AddModelOption(cmd, &e->model, "Motion-DVAE bundle folder")->check(CLI::ExistingDirectory);
+  AddDataOptions(cmd, &e->data, &e->split_file, "Data folder of the bundle's protocol");
   cmd->add_option(
       "--noise", e->eval.noises,
       "Noise kinds (repeatable; default: gaussian 2/5/10 cm, two outlier settings, jitter 5 cm)");
@@ -281,16 +240,11 @@ void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
   cmd->add_option("--smooth-sigma", e->eval.smooth_sigma,
                   "Baseline's Gaussian sigma in frames (default 2)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--forecaster", e->forecaster,
-                  "Generator bundle for the downstream figures (e.g. models/bandai)");
-  cmd->add_option("--forecast-windows", e->eval.forecast_windows,
-                  "Protocol test windows forecast (default 300)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("-k", e->eval.k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
-  cmd->add_option("--threads", e->threads, "Threads (default 1)")->check(CLI::PositiveNumber);
+  AddForecasterOptions(cmd, &e->forecaster, &e->eval.forecast_windows, &e->eval.k,
+                       "Protocol test windows forecast (default 300)");
+  AddThreadsOption(cmd, &e->threads);
   AddJsonOption(cmd, &e->json_out, "The figures");
   AddDenoiseFlags(cmd, &e->flags);
-  cmd->callback([e, &global] { RunEval(*e, global); });
 }
 
 }  // namespace motionfork::app

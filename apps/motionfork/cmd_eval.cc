@@ -2,7 +2,6 @@
 // overall and per action (generator/training/eval_experiment.h does the work).
 #include <cstdio>
 #include <filesystem>
-#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -10,11 +9,10 @@
 #include "commands.h"
 #include "flags.h"
 #include "generator/training/eval_experiment.h"
+#include "generator/training/eval_experiment_json.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 struct EvalCommandOptions {
   EvalExperimentOptions experiment;
@@ -22,72 +20,6 @@ struct EvalCommandOptions {
   bool no_repair = false;
   std::string json;
 };
-
-// The figures of one group, with its window count.
-json FiguresJson(const Figures& f, bool fixed, const std::vector<std::string>& scorers) {
-  json j = {{"windows", f.windows},
-            {"apd", f.apd},
-            {"ade", f.ade},
-            {"fde", f.fde},
-            {"mmade", f.mmade},
-            {"mmfde", f.mmfde},
-            {"mean_multimodal_set_size", f.mean_set_size}};
-  if (fixed) j.update({{"apd_varied", f.apd_varied}, {"apd_fixed", f.apd_fixed}});
-  for (size_t s = 0; s < scorers.size() && s < f.predicted_scores.size(); ++s) {
-    j[scorers[s]] = f.predicted_scores[s];
-    j[scorers[s] + "_gt"] = f.truth_scores[s];
-  }
-  return j;
-}
-
-json Report(const EvalCommandOptions& o, const EvalExperiment& x) {
-  const ProtocolOptions& p = x.protocol;
-  const EvalResult& r = x.result;
-  const bool fixed = !r.fixed_part.empty();
-  const bool from_clips = !o.experiment.clips.empty();
-  json predictor = {{"name", x.predictor_name},
-                    {"kind", x.learned ? "model" : "baseline"},
-                    {"description", x.predictor_description},
-                    {"bundle_hash", x.bundle_hash.empty() ? json() : json(x.bundle_hash)}};
-  if (x.training_windows >= 0) predictor["training_windows"] = x.training_windows;
-  json j = {{"protocol", p.name},
-            {"protocol_path", p.path},
-            {"fps", p.fps},
-            {"t_his", p.t_his},
-            {"t_pred", p.t_pred},
-            {"test_stride", p.test_stride},
-            {"test_include_last", p.test_include_last},
-            {"split", from_clips ? json() : json(o.experiment.subset)},
-            {"clips_dir", from_clips ? json(o.experiment.clips) : json()},
-            {"clips", x.clips},
-            {"windows", x.windows},
-            {"windows_evaluated", r.overall.windows},
-            {"windows_skipped_singleton", r.windows_skipped},
-            {"multimodal_threshold", p.multimodal_threshold},
-            {"keep_singleton_sets", p.keep_singleton_sets},
-            {"k", o.experiment.k},
-            {"seed", o.experiment.seed},
-            {"predictor", predictor},
-            {"fixed_part", fixed ? json(r.fixed_part) : json()}};
-  json overall = FiguresJson(r.overall, fixed, x.scorer_names);
-  overall.erase("windows");  // the top level's "windows" counts every test window
-  j.update(overall);
-  json per_action = json::object();
-  for (size_t a = 0; a < x.actions.size(); ++a) {
-    if (r.per_action[a].windows > 0) {
-      per_action[x.actions[a]] = FiguresJson(r.per_action[a], fixed, x.scorer_names);
-    }
-  }
-  j["per_action"] = per_action;
-  j["seconds"] = {{"total", x.seconds_total},
-                  {"loading", x.seconds_loading},
-                  {"test_windows_and_multimodal", x.seconds_multimodal},
-                  {"predictor_setup", x.seconds_predictor_setup},
-                  {"predictor", r.seconds_predicting},
-                  {"metrics", r.seconds_metrics},
-                  {"scorers", r.seconds_scoring}};
-  return j;
-}
 
 void PrintRow(const std::string& label, const Figures& f, bool fixed) {
   std::printf("%-24s %8s %7.3f %7.3f %7.3f %7.3f %7.3f %9.1f", label.c_str(),
@@ -175,18 +107,17 @@ void RunEval(EvalCommandOptions o, const GlobalOptions& g) {
   bars.Finish();
   PrintHeader(o, x);
   PrintTable(x);
-  if (!o.json.empty()) EmitJson(o.json, Report(o, x));
+  if (!o.json.empty()) EmitJson(o.json, EvalExperimentJson(o.experiment, x));
 }
 
 }  // namespace
 
 void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<EvalCommandOptions>();
-  EvalExperimentOptions& e = o->experiment;
-  CLI::App* cmd = app.add_subcommand(
-      "eval",
+  const auto [cmd, o] = AddSubcommand<EvalCommandOptions>(
+      &app, global, RunEval, "eval",
       "Evaluate a predictor on a protocol's test windows: APD, ADE, FDE, MMADE, MMFDE (metres, "
       "whole pose vectors, K samples per history), overall and per action.");
+  EvalExperimentOptions& e = o->experiment;
   cmd->add_option("--baseline", e.baseline,
                   "Non-learned predictor: zero-velocity (every sample repeats the last pose) or "
                   "nearest-neighbours (K training futures, stride-5 windows, re-targeted)");
@@ -222,7 +153,6 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       "With --model: score the network's raw futures, without moving poses that break the "
       "bundle's angle ranges back inside them");
   AddJsonOption(cmd, &o->json, "Every figure");
-  cmd->callback([o, &global] { RunEval(*o, global); });
 }
 
 }  // namespace motionfork::app

@@ -1,15 +1,13 @@
 // motionfork export PREDICTION -o OUT.bvh: each predicted sample (history + its future) as a BVH
 // file of joint rotations, for animation tools.
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <memory>
 #include <string>
-#include <vector>
 
 #include "app_common.h"
 #include "commands.h"
 #include "core/error.h"
+#include "flags.h"
 #include "io/bvh.h"
 #include "io/bvh_writer.h"
 #include "io/file_util.h"
@@ -26,7 +24,7 @@ struct ExportOptions {
   BvhWriteOptions bvh;
 };
 
-void RunExport(const ExportOptions& o) {
+void RunExport(const ExportOptions& o, const GlobalOptions& /*global*/) {
   std::string ext = o.out.size() >= 4 ? o.out.substr(o.out.size() - 4) : "";
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext != ".bvh") {
@@ -48,24 +46,19 @@ void RunExport(const ExportOptions& o) {
 
 }  // namespace
 
-void AddExportCommand(CLI::App& app, GlobalOptions& /*global*/) {
-  auto o = std::make_shared<ExportOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "export",
-      "Write predicted samples as BVH files of joint rotations (Blender, Maya, MotionBuilder).\n"
-      "Each file holds one sample: the history, then that future. Every sample by default\n"
-      "(OUT_00.bvh .. OUT_{K-1}.bvh), or one with --sample. The rest pose is the sample's mean\n"
-      "pose; bones keep their mean lengths (--lengths mean), so joints move by as much as the\n"
-      "prediction's bone lengths wobble (the figure printed per file); --lengths exact keeps "
-      "every\n"
-      "position by giving stretching bones translation channels. Check a file in Blender with\n"
-      "tools/blender_check_bvh.py.");
-  cmd->add_option("PREDICTION", o->prediction,
-                  "Prediction written by 'motionfork predict' (.json or .npy)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", o->out, "Output path ending in .bvh; written all-or-nothing")
-      ->required();
+void AddExportCommand(CLI::App& app, GlobalOptions& global) {
+  const auto [cmd, o] = AddSubcommand<ExportOptions>(
+      &app, global, RunExport, "export",
+      R"(Write predicted samples as BVH files of joint rotations (Blender, Maya, MotionBuilder).
+Each file holds one sample: the history, then that future. Every sample by default
+(OUT_00.bvh .. OUT_{K-1}.bvh), or one with --sample. The rest pose is the sample's mean
+pose; bones keep their mean lengths (--lengths mean), so joints move by as much as the
+prediction's bone lengths wobble (the figure printed per file); --lengths exact keeps every
+position by giving stretching bones translation channels. Check a file in Blender with
+tools/blender_check_bvh.py.)");
+  AddInputFile(cmd, "PREDICTION", &o->prediction,
+               "Prediction written by 'motionfork predict' (.json or .npy)");
+  AddOutOption(cmd, &o->out, "Output path ending in .bvh; written all-or-nothing");
   cmd->add_option("--sample", o->sample, "Only this sample (0-based), written to OUT itself")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--lengths", o->lengths,
@@ -79,7 +72,6 @@ void AddExportCommand(CLI::App& app, GlobalOptions& /*global*/) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--rotation-order", o->bvh.rotation_order,
                   "Axis order of every joint's rotation channels (default ZXY; e.g. ZYX, XYZ)");
-  cmd->callback([o] { RunExport(*o); });
 }
 
 }  // namespace motionfork::app

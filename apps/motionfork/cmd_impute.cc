@@ -1,33 +1,27 @@
 // motionfork impute / ood / hgvae sample / hgvae eval: using a trained HG-VAE.
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "bundle/hgvae_bundle.h"
+#include "commands.h"
 #include "core/error.h"
-#include "dataset_loading.h"
+#include "experiment_common.h"
 #include "flags.h"
-#include "hgvae_commands.h"
+#include "generator/training/history_forecaster.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
+#include "imputation/motion_imputation_json.h"
+#include "imputation/motion_imputation_summary.h"
+#include "imputation/motion_sampling.h"
 #include "imputation/training/hgvae_evaluation.h"
+#include "imputation/training/hgvae_evaluation_json.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
 
-namespace motionfork {
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(HgvaeLikelihood, elbo_nats, recon_mse_m2, recon_mse_sampled_m2,
-                                   kl_levels, kl_total, posterior_score_mean, joint_score_mean)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(OodTest, degradation, auroc_joint, auroc_posterior, flagged)
-}  // namespace motionfork
-
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 // --steps / --lr / --objective over the bundle's defaults.
 struct ImputeFlags {
@@ -64,12 +58,10 @@ struct ImputeCmd {
 };
 
 void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
+  RequireMotion(o.motion);
   const HgvaeModel model = LoadHgvaeModel(o.model);
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  const MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
-                                   skeleton, model.manifest().fps, o.masks, o.seed);
-  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+  const MotionWithGaps in = LoadMotionForModel(o.motion, o.input, g, model.skeleton(),
+                                               model.manifest().fps, o.masks, o.seed);
   const ImputeOptions options = o.flags.Apply(model.manifest().impute);
   MotionImputation r;
   try {
@@ -84,15 +76,7 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
                 o.motion.c_str(), o.out.c_str());
     return;
   }
-  double before = 0, after = 0;
-  int ood_before = 0, ood_after = 0;
-  for (size_t w = 0; w < r.window_starts.size(); ++w) {
-    before += r.score_before[w];
-    after += r.score_after[w];
-    ood_before += model.OutOfDistribution(r.score_before[w]);
-    ood_after += model.OutOfDistribution(r.score_after[w]);
-  }
-  const double n = static_cast<double>(r.window_starts.size());
+  const ImputationScoreSummary scores = SummariseScores(model, r);
   std::printf(
       "imputed %d of %zu values (%.1f%%) in %zu windows of %d frames (%d Adam steps, %s "
       "objective)\n",
@@ -102,8 +86,8 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
       "%s score per window: %.1f with the training mean -> %.1f imputed (training windows: %.1f +- "
       "%.1f);"
       " out of distribution: %d -> %d windows\n",
-      ToString(model.manifest().ood_score), before / n, after / n, model.manifest().score_mean,
-      model.manifest().score_std, ood_before, ood_after);
+      ToString(model.manifest().ood_score), scores.mean_before, scores.mean_after,
+      model.manifest().score_mean, model.manifest().score_std, scores.ood_before, scores.ood_after);
   std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), r.motion.num_frames(),
               r.motion.fps());
 }
@@ -116,12 +100,10 @@ struct OodCmd {
 };
 
 void RunOod(const OodCmd& o, GlobalOptions& g) {
+  RequireMotion(o.motion);
   const HgvaeModel model = LoadHgvaeModel(o.model);
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
   const MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(o.motion, WithConfigDir(o.input, ConfigDir(g.config_dir)),
-                                   skeleton, model.manifest().fps, {}, 0);
-  NoteResampling(o.motion, in.resampled_from, in.motion.fps());
+      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
   pipeline::RequireComplete(o.motion, in.missing,
                             "impute them first ('motionfork impute'), or score the imputed file");
   std::vector<WindowScore> scores;
@@ -131,33 +113,20 @@ void RunOod(const OodCmd& o, GlobalOptions& g) {
   } catch (const std::invalid_argument& e) {
     throw FormatError(o.motion + ": " + e.what());
   }
-  int flagged = 0;
+  const int flagged = CountOutOfDistribution(scores);
   std::printf("window  frames       score   out of distribution (threshold %ld)\n",
               std::lround(model.OodThreshold()));
-  json windows = json::array();
-  for (const WindowScore& s : scores) {
-    flagged += s.out_of_distribution;
-    std::printf("%6zu  %5d-%-5d %9.1f   %s\n", windows.size(), s.start,
-                s.start + model.window() - 1, s.score, s.out_of_distribution ? "yes" : "no");
-    windows.push_back({{"start", s.start},
-                       {"frames", model.window()},
-                       {"score", s.score},
-                       {"out_of_distribution", s.out_of_distribution}});
+  for (size_t w = 0; w < scores.size(); ++w) {
+    const WindowScore& s = scores[w];
+    std::printf("%6zu  %5d-%-5d %9.1f   %s\n", w, s.start, s.start + model.window() - 1, s.score,
+                s.out_of_distribution ? "yes" : "no");
   }
   std::printf(
       "%d of %zu windows out of distribution (%s score below the training windows' mean %.1f - "
       "%.3g x std %.1f)\n",
       flagged, scores.size(), ToString(model.manifest().ood_score), model.manifest().score_mean,
       model.manifest().ood_k, model.manifest().score_std);
-  EmitJson(o.json_out, {{"model", o.model},
-                        {"motion", o.motion},
-                        {"score", ToString(model.manifest().ood_score)},
-                        {"threshold", model.OodThreshold()},
-                        {"score_mean", model.manifest().score_mean},
-                        {"score_std", model.manifest().score_std},
-                        {"k", model.manifest().ood_k},
-                        {"flagged", flagged},
-                        {"windows", windows}});
+  EmitJson(o.json_out, WindowScoresJson(model, scores, o.model, o.motion));
   g.exit_code = flagged > 0 ? 1 : 0;
 }
 
@@ -172,18 +141,10 @@ struct SampleCmd {
 void RunSample(const SampleCmd& o, const GlobalOptions&) {
   const HgvaeModel model = LoadHgvaeModel(o.model);
   const int ci = model.ClassIndex(o.cls);
-  const std::vector<float> w = model.Sample(o.count, ci, o.seed, !o.mean_latents);
-  const int T = model.window(), N = model.coords(), J = model.skeleton().num_joints();
-  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
-  // Windows are root-relative: the root stays at the origin. Samples follow one another.
-  std::vector<float> pos(static_cast<size_t>(o.count) * T * J * 3, 0.0f);
-  for (size_t f = 0; f < static_cast<size_t>(o.count) * T; ++f) {
-    std::copy(w.begin() + f * N, w.begin() + (f + 1) * N, pos.begin() + f * J * 3 + 3);
-  }
-  WriteMotionFile(o.out, Motion(skeleton, model.manifest().fps, std::move(pos)));
+  WriteMotionFile(o.out, SampleMotion(model, o.count, ci, o.seed, !o.mean_latents));
   std::printf(
       "wrote %s: %d sample%s of %d frames (%.6g Hz) one after another%s, root at the origin\n",
-      o.out.c_str(), o.count, o.count == 1 ? "" : "s", T, model.manifest().fps,
+      o.out.c_str(), o.count, o.count == 1 ? "" : "s", model.window(), model.manifest().fps,
       ci >= 0 ? (", class '" + o.cls + "'").c_str() : "");
 }
 
@@ -204,32 +165,19 @@ void PrintLikelihood(const HgvaeLikelihood& l) {
               l.posterior_score_mean, l.joint_score_mean);
 }
 
-json PrintImputation(const HgvaeEvaluation& e, const ImputeOptions& options) {
+void PrintImputation(const HgvaeEvaluation& e, const ImputeOptions& options) {
   std::printf("\nimputation (%d Adam steps, lr %.3g, %s objective): MSE per missing value, cm^2\n",
               options.steps, options.learning_rate, ToString(options.objective));
   std::printf("  %-12s %10s %10s %10s %10s   score mean-filled -> imputed\n", "occlusion",
               "missing", "mean", "HG-VAE", "reduction");
-  json settings = json::array();
   for (const ImputationFigure& x : e.imputation) {
     std::printf("  %-12s %10lld %10.3f %10.3f %9.1f%%   %.1f -> %.1f\n", x.occlusion.name.c_str(),
                 static_cast<long long>(x.missing_values), 1e4 * x.mse_mean, 1e4 * x.mse_model,
                 100 * x.reduction, x.score_before, x.score_after);
-    settings.push_back({{"occlusion", x.occlusion.name},
-                        {"share", x.occlusion.share},
-                        {"missing_values", x.missing_values},
-                        {"mse_mean_m2", x.mse_mean},
-                        {"mse_hgvae_m2", x.mse_model},
-                        {"reduction", x.reduction},
-                        {"score_mean_filled", x.score_before},
-                        {"score_imputed", x.score_after}});
   }
-  return {{"steps", options.steps},
-          {"learning_rate", options.learning_rate},
-          {"objective", ToString(options.objective)},
-          {"settings", settings}};
 }
 
-json PrintOod(const HgvaeEvaluation& e, const HgvaeModel& model) {
+void PrintOod(const HgvaeEvaluation& e, const HgvaeModel& model) {
   std::printf(
       "\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; "
       "share flagged by the bundle's rule (%s score < %.1f)\n",
@@ -240,20 +188,13 @@ json PrintOod(const HgvaeEvaluation& e, const HgvaeModel& model) {
     std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", t.degradation.c_str(), t.auroc_joint,
                 t.auroc_posterior, 100.0 * t.flagged);
   }
-  return {{"score", ToString(model.manifest().ood_score)},
-          {"threshold", model.OodThreshold()},
-          {"clean_flagged", e.clean_flagged},
-          {"tests", json(nlohmann::json(e.ood))}};
 }
 
 void PrintForecasting(const ForecastingFigures& f) {
   std::printf("\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE from\n",
               f.forecaster.c_str(), f.k, f.windows);
   std::printf("  %-12s clean %.3f / %.3f\n", "", f.clean.ade, f.clean.fde);
-  for (const RepairedForecast& s : f.settings) {
-    std::printf("  %-12s mean-imputed %.3f / %.3f   HG-VAE-imputed %.3f / %.3f\n",
-                s.setting.c_str(), s.before.ade, s.before.fde, s.after.ade, s.after.fde);
-  }
+  PrintRepairedForecasts(f, 12, "mean-imputed", "HG-VAE-imputed");
 }
 
 void RunEval(EvalCmd o, const GlobalOptions& g) {
@@ -272,40 +213,25 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
       o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
       e.stochastic_levels, m.protocol.c_str(), e.windows, e.window_frames);
   PrintLikelihood(e.likelihood);
-  json j = {{"model", o.model},
-            {"protocol", m.protocol},
-            {"windows", e.windows},
-            {"window_frames", e.window_frames},
-            {"parameters", model.num_parameters()},
-            {"stochastic_levels", e.stochastic_levels},
-            {"likelihood", json(nlohmann::json(e.likelihood))}};
   if (!e.likelihood_only) {
-    j["imputation"] = PrintImputation(e, o.eval.impute);
-    j["ood"] = PrintOod(e, model);
+    PrintImputation(e, o.eval.impute);
+    PrintOod(e, model);
   }
-  if (e.forecasting) {
-    PrintForecasting(*e.forecasting);
-    j["forecasting"] =
-        ForecastingJson(*e.forecasting, "occlusion", "mean_imputed", "hgvae_imputed");
-  }
-  EmitJson(o.json_out, j);
+  if (e.forecasting) PrintForecasting(*e.forecasting);
+  EmitJson(o.json_out, HgvaeEvaluationJson(e, model, o.model, o.eval.impute));
 }
 
 }  // namespace
 
 void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<ImputeCmd>();
-  CLI::App* cmd = app.add_subcommand("impute",
-                                     "Fill the missing values of a motion with an HG-VAE: NaN "
-                                     "values in .npy, empty or nan fields in\n"
-                                     ".csv, and/or --mask. Missing values start at the training "
-                                     "mean and are moved by Adam to raise\n"
-                                     "the model's score (the bundle's objective); each window "
-                                     "keeps its best step. Observed values\n"
-                                     "are kept exactly.");
-  cmd->add_option("--model", o->model,
-                  "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae")
-      ->required();
+  const auto [cmd, o] = AddSubcommand<ImputeCmd>(
+      &app, global, RunImpute, "impute",
+      R"(Fill the missing values of a motion with an HG-VAE: NaN values in .npy, empty or nan fields in
+.csv, and/or --mask. Missing values start at the training mean and are moved by Adam to raise
+the model's score (the bundle's objective); each window keeps its best step. Observed values
+are kept exactly.)");
+  AddModelOption(cmd, &o->model,
+                 "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae");
   AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
   cmd->add_option(
       "--mask", o->masks,
@@ -316,22 +242,16 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   cmd->add_option("--seed", o->seed, "Seed of random masks (default 0)");
   AddImputeFlags(cmd, &o->flags);
-  cmd->add_option("-o,--out", o->out, "Output motion file (.npy, .csv or .bvh)")->required();
+  AddOutOption(cmd, &o->out, "Output motion file (.npy, .csv or .bvh)");
   AddMotionInputOptions(cmd, &o->input);
-  cmd->callback([o, &global] {
-    RequireMotion(o->motion);
-    RunImpute(*o, global);
-  });
 }
 
 void AddOodCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<OodCmd>();
-  CLI::App* cmd = app.add_subcommand("ood",
-                                     "Score a motion's windows with an HG-VAE and flag those out "
-                                     "of distribution: posterior score\n"
-                                     "below the training windows' mean - k std (k in the bundle). "
-                                     "Exit status 1 when any window is flagged.");
-  cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
+  const auto [cmd, o] = AddSubcommand<OodCmd>(
+      &app, global, RunOod, "ood",
+      R"(Score a motion's windows with an HG-VAE and flag those out of distribution: posterior score
+below the training windows' mean - k std (k in the bundle). Exit status 1 when any window is flagged.)");
+  AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
   cmd->add_option("--stride", o->stride,
                   "Frames between window starts (default: the window length)")
@@ -339,55 +259,38 @@ void AddOodCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   AddJsonOption(cmd, &o->json_out, "The scores");
   AddMotionInputOptions(cmd, &o->input);
-  cmd->callback([o, &global] {
-    RequireMotion(o->motion);
-    RunOod(*o, global);
-  });
 }
 
 void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {
-  auto o = std::make_shared<SampleCmd>();
-  CLI::App* cmd = hgvae.add_subcommand("sample",
-                                       "Sample motion windows from an HG-VAE's prior, optionally "
-                                       "of one class (conditional models).");
-  cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
+  const auto [cmd, o] = AddSubcommand<SampleCmd>(&hgvae, global, RunSample, "sample",
+                                                 "Sample motion windows from an HG-VAE's prior, "
+                                                 "optionally of one class (conditional models).");
+  AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   cmd->add_option("--class", o->cls, "Class to sample (e.g. walk); default none (unconditional)");
   cmd->add_option("-n,--count", o->count,
                   "Windows to sample (default 1); written one after another")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--seed", o->seed, "Random seed (default 0)");
   cmd->add_flag("--mean-latents", o->mean_latents, "Each level's prior mean instead of a sample");
-  cmd->add_option("-o,--out", o->out, "Output motion file (.npy, .csv or .bvh)")->required();
-  cmd->callback([o, &global] { RunSample(*o, global); });
+  AddOutOption(cmd, &o->out, "Output motion file (.npy, .csv or .bvh)");
 }
 
 void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global) {
-  auto o = std::make_shared<EvalCmd>();
-  CLI::App* cmd = hgvae.add_subcommand("eval",
-                                       "An HG-VAE's figures on its protocol's test split: "
-                                       "likelihood (ELBO, KL per level), imputation\n"
-                                       "MSE vs mean imputation (random 1/10/50/90% of values, "
-                                       "whole limbs), out-of-distribution AUROC,\n"
-                                       "and with --forecaster the forecasting ADE/FDE from clean, "
-                                       "mean-imputed and imputed histories.");
-  cmd->add_option("--model", o->model, "HG-VAE bundle folder")->required();
-  cmd->add_option("--data", o->data, "Data folder of the model's protocol")
-      ->required()
-      ->check(CLI::ExistingDirectory);
-  cmd->add_option("--split", o->split_file, "Split file overriding the protocol's");
+  const auto [cmd, o] = AddSubcommand<EvalCmd>(
+      &hgvae, global, RunEval, "eval",
+      R"(An HG-VAE's figures on its protocol's test split: likelihood (ELBO, KL per level), imputation
+MSE vs mean imputation (random 1/10/50/90% of values, whole limbs), out-of-distribution AUROC,
+and with --forecaster the forecasting ADE/FDE from clean, mean-imputed and imputed histories.)");
+  AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
+  AddDataOptions(cmd, &o->data, &o->split_file, "Data folder of the model's protocol");
   cmd->add_option("--windows", o->eval.windows, "Test windows, spread evenly (default 1000)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--forecaster", o->forecaster,
-                  "Generator bundle for the downstream figures (e.g. models/bandai)");
-  cmd->add_option("--forecast-windows", o->eval.forecast_windows,
-                  "Protocol test windows for them (default 500)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("-k", o->eval.k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
+  AddForecasterOptions(cmd, &o->forecaster, &o->eval.forecast_windows, &o->eval.k,
+                       "Protocol test windows for them (default 500)");
   cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)");
   cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
   AddImputeFlags(cmd, &o->flags);
   AddJsonOption(cmd, &o->json_out, "Every figure");
-  cmd->callback([o, &global] { RunEval(*o, global); });
 }
 
 }  // namespace motionfork::app

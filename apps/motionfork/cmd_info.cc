@@ -1,39 +1,21 @@
 // motionfork info FILE: what a motion file holds.
 #include <cstdio>
-#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
 #include "commands.h"
 #include "flags.h"
 #include "motion_options.h"
+#include "pipeline/motion_input_json.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 struct InfoOptions {
   std::string file;
   MotionInputOptions input;
   std::string json;
 };
-
-json Report(const InfoOptions& o, const LoadedMotion& lm, const BoundingBox& box) {
-  const Motion& m = lm.motion;
-  const Skeleton& s = m.skeleton();
-  return {{"file", o.file},
-          {"skeleton", s.name()},
-          {"joints", s.num_joints()},
-          {"joint_names", s.joint_names()},
-          {"parents", s.parents()},
-          {"frames", m.num_frames()},
-          {"fps", m.fps()},
-          {"fps_assumed", lm.fps_assumed},
-          {"duration_s", m.duration_seconds()},
-          {"bbox_min_m", {box.min[0], box.min[1], box.min[2]}},
-          {"bbox_max_m", {box.max[0], box.max[1], box.max[2]}}};
-}
 
 void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
   const LoadedMotion lm =
@@ -42,7 +24,7 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
   const Skeleton& s = m.skeleton();
   const BoundingBox box = ComputeBoundingBox(m);
   if (o.json == "-") {
-    EmitJson(o.json, Report(o, lm, box));
+    EmitJson(o.json, pipeline::MotionInfoJson(o.file, lm, box));
     return;
   }
   std::printf("file:      %s\n", o.file.c_str());
@@ -69,21 +51,18 @@ void RunInfo(const InfoOptions& o, const GlobalOptions& g) {
               box.max[0], box.min[1], box.max[1], box.min[2], box.max[2]);
   std::printf("extent (m):       %.3f x %.3f x %.3f\n", box.max[0] - box.min[0],
               box.max[1] - box.min[1], box.max[2] - box.min[2]);
-  EmitJson(o.json, Report(o, lm, box));
+  EmitJson(o.json, pipeline::MotionInfoJson(o.file, lm, box));
 }
 
 }  // namespace
 
 void AddInfoCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<InfoOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "info", "Show a motion file's skeleton, frames, frame rate, duration and bounding box");
-  cmd->add_option("FILE", o->file, "Motion file (.bvh, .npy, .csv)")
-      ->required()
-      ->check(CLI::ExistingFile);
+  const auto [cmd, o] = AddSubcommand<InfoOptions>(
+      &app, global, RunInfo, "info",
+      "Show a motion file's skeleton, frames, frame rate, duration and bounding box");
+  AddInputFile(cmd, "FILE", &o->file, "Motion file (.bvh, .npy, .csv)");
   AddMotionInputOptions(cmd, &o->input);
   AddJsonOption(cmd, &o->json, "The report, instead of text on stdout,");
-  cmd->callback([o, &global] { RunInfo(*o, global); });
 }
 
 }  // namespace motionfork::app

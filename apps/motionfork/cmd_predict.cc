@@ -1,6 +1,5 @@
 // motionfork predict: K futures of a history with a trained model bundle (pipeline/predict.h).
 #include <cstdio>
-#include <memory>
 
 #include "app_common.h"
 #include "commands.h"
@@ -51,6 +50,7 @@ void PrintValidity(const Prediction& p, const pipeline::PredictNotes& notes) {
 }
 
 void RunPredict(PredictOptions o, const GlobalOptions& g) {
+  RequireMotion(o.files.history);
   o.files.input.config_dir = ConfigDir(g.config_dir);
   o.files.request.repair = !o.no_repair;
   pipeline::PredictNotes notes;
@@ -66,16 +66,13 @@ void RunPredict(PredictOptions o, const GlobalOptions& g) {
 }  // namespace
 
 void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<PredictOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "predict",
-      "Predict K futures of a history with a trained model bundle.\n"
-      "Writes OUT.npy [K, t_his + t_pred, J, 3] (each sample: the history, then its future; "
-      "metres;\n"
-      "the root stays where the history ended: models predict root-relative poses) and OUT.json\n"
-      "(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).");
-  cmd->add_option("--model", o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)")
-      ->required();
+  const auto [cmd, o] =
+      AddSubcommand<PredictOptions>(&app, global, RunPredict, "predict",
+                                    R"(Predict K futures of a history with a trained model bundle.
+Writes OUT.npy [K, t_his + t_pred, J, 3] (each sample: the history, then its future; metres;
+the root stays where the history ended: models predict root-relative poses) and OUT.json
+(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).)");
+  AddModelOption(cmd, &o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)");
   AddMotionArgument(cmd, &o->files.history, "Motion file holding the history (.bvh, .npy, .csv)",
                     "--history");
   cmd->add_option("--start", o->files.start,
@@ -103,12 +100,8 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
                   "Motion-DVAE bundle (e.g. models/bandai/dvae) denoising the history first (after "
                   "--impute), with\n"
                   "up to one model window of earlier frames as context");
-  cmd->add_option("-o,--out", o->out, "Output path (OUT.npy and OUT.json are written)")->required();
+  AddOutOption(cmd, &o->out, "Output path (OUT.npy and OUT.json are written)");
   AddMotionInputOptions(cmd, &o->files.input);
-  cmd->callback([o, &global] {
-    RequireMotion(o->files.history);
-    RunPredict(*o, global);
-  });
 }
 
 }  // namespace motionfork::app

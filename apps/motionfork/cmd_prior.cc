@@ -1,7 +1,6 @@
 // motionfork prior train|score|sample: the pose prior (GSPS normalizing flow on limb directions).
 #include <unistd.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -17,13 +16,12 @@
 #include "io/motion_file.h"
 #include "motion_options.h"
 #include "pipeline/prior_score.h"
+#include "pipeline/prior_score_json.h"
 #include "pipeline/prior_training.h"
 #include "torch_util/threads.h"
 
 namespace motionfork::app {
 namespace {
-
-using json = nlohmann::ordered_json;
 
 constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
 
@@ -155,29 +153,6 @@ void RunTrain(pipeline::PriorTrainingRequest o, GlobalOptions& g) {
 // ---------------------------------------------------------------------------------------------
 // score
 
-json ScoreJson(const ScoreOptions& o, const PosePrior& prior, const Motion& motion,
-               const pipeline::PriorScore& s) {
-  const int T = static_cast<int>(s.nll.size());
-  const bool known = std::isfinite(s.held_out_q99);
-  return {{"file", o.file},
-          {"model", o.model},
-          {"skeleton", prior.skeleton().name()},
-          {"frames", T},
-          {"fps", motion.fps()},
-          {"unit", "nats per pose"},
-          {"nll", s.nll},
-          {"summary",
-           {{"mean", s.mean},
-            {"median", s.median},
-            {"min", s.min},
-            {"best_frame", s.best_frame},
-            {"max", s.max},
-            {"worst_frame", s.worst_frame},
-            {"held_out_q50", s.held_out_q50},
-            {"held_out_q99", s.held_out_q99},
-            {"frames_above_held_out_q99", known ? json(s.above_q99) : json()}}}};
-}
-
 void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const PosePrior prior = LoadPosePrior(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
@@ -187,7 +162,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const int T = static_cast<int>(s.nll.size());
   const bool known = std::isfinite(s.held_out_q99);
   if (o.json == "-") {
-    EmitJson("-", ScoreJson(o, prior, motion, s));
+    EmitJson("-", pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));
     return;
   }
   std::printf("file:      %s (%d frames at %.6g Hz)\n", o.file.c_str(), T, motion.fps());
@@ -213,13 +188,14 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
         "%d of %d (%.1f%%)\n",
         s.held_out_q50, s.held_out_q99, s.above_q99, T, 100.0 * s.above_q99 / T);
   }
-  EmitJson(o.json, ScoreJson(o, prior, motion, s));
+  EmitJson(o.json, pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));
 }
 
 // ---------------------------------------------------------------------------------------------
 // sample
 
 void RunSample(const SampleOptions& o, const GlobalOptions&) {
+  RequireArgument(o.output, "-o,--out");
   FormatOfPath(o.output);  // fail on an unsupported extension before any work
   const PosePrior prior = LoadPosePrior(o.model);
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;
@@ -233,9 +209,9 @@ void RunSample(const SampleOptions& o, const GlobalOptions&) {
 }
 
 void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
-  auto t = std::make_shared<pipeline::PriorTrainingRequest>();
-  CLI::App* train = prior->add_subcommand(
-      "train", "Train a pose prior on single frames of a protocol's training split");
+  const auto [train, t] = AddSubcommand<pipeline::PriorTrainingRequest>(
+      prior, global, RunTrain, "train",
+      "Train a pose prior on single frames of a protocol's training split");
   train->footer(
       "A share of the training clips is held out to measure the NLL after every epoch; the test\n"
       "split is scored once at the end. A checkpoint is written to OUT after every epoch and an\n"
@@ -246,11 +222,7 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
   train
       ->add_option("--protocol", t->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  train
-      ->add_option("--data", t->data,
-                   "Data folder of the protocol (see 'motionfork dataset stats')")
-      ->required()
-      ->check(CLI::ExistingDirectory);
+  AddDataOption(train, &t->data, "Data folder of the protocol (see 'motionfork dataset stats')");
   train->add_option("--out", t->out, "Output folder for the bundle and the checkpoint")->required();
   train->add_option("--config", t->config,
                     "Prior config name in configs/models/ or YAML path (default: flow_prior)");
@@ -261,38 +233,34 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
       ->check(CLI::PositiveNumber);
   train->add_flag("--restart", t->restart,
                   "Discard a checkpoint or trained prior in OUT and train from the start");
-  train->callback([t, &global] { RunTrain(*t, global); });
 }
 
 void AddPriorScore(CLI::App* prior, GlobalOptions& global) {
-  auto s = std::make_shared<ScoreOptions>();
-  CLI::App* score = prior->add_subcommand(
-      "score", "Per-frame negative log-likelihood of a motion under a prior, and a summary");
+  const auto [score, s] = AddSubcommand<ScoreOptions>(
+      prior, global, RunScore, "score",
+      "Per-frame negative log-likelihood of a motion under a prior, and a summary");
   score->footer(
       "NLL is in nats per pose; lower = more plausible. The summary compares the frames with what\n"
       "real held-out poses scored in training (frames above their 99th percentile are flagged).\n"
       "The motion is put on the prior's skeleton: by joint names, by index (.npy), or through the\n"
       "skeleton config the prior was trained with (e.g. a 22-joint Bandai BVH).");
-  score->add_option("MOTION", s->file, "Motion file (.bvh, .npy, .csv)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  score->add_option("--model", s->model, "Prior bundle folder (holding prior.yaml)")->required();
+  AddInputFile(score, "MOTION", &s->file, "Motion file (.bvh, .npy, .csv)");
+  AddModelOption(score, &s->model, "Prior bundle folder (holding prior.yaml)");
   AddMotionInputOptions(score, &s->input);
   AddJsonOption(score, &s->json, "The per-frame NLL and the summary, instead of text,");
   score->add_flag("--summary-only", s->summary_only, "Text output without the per-frame table");
-  score->callback([s, &global] { RunScore(*s, global); });
 }
 
 void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
-  auto m = std::make_shared<SampleOptions>();
-  CLI::App* sample = prior->add_subcommand("sample", "Draw poses from a prior into a motion file");
+  const auto [sample, m] = AddSubcommand<SampleOptions>(
+      prior, global, RunSample, "sample", "Draw poses from a prior into a motion file");
   sample->footer(
       "Poses come from the prior's density on valid poses (unit limb directions): flow samples\n"
       "normalised, then Metropolis-Hastings steps (--steps) that move them to where the prior "
       "puts\n"
       "real poses. One pose per frame, root at the origin, the training data's mean bone lengths,\n"
       "at the protocol's frame rate.");
-  sample->add_option("--model", m->model, "Prior bundle folder (holding prior.yaml)")->required();
+  AddModelOption(sample, &m->model, "Prior bundle folder (holding prior.yaml)");
   sample->add_option("-n,--count", m->count, "Number of poses")
       ->required()
       ->check(CLI::PositiveNumber);
@@ -308,10 +276,6 @@ void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
                    "Metropolis-Hastings steps (default 1000; 0 = raw flow samples, fast but mostly "
                    "implausible)")
       ->check(CLI::NonNegativeNumber);
-  sample->callback([m, &global] {
-    RequireArgument(m->output, "-o,--out");
-    RunSample(*m, global);
-  });
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
-#include <memory>
 
 #include "app_common.h"
 #include "commands.h"
@@ -111,23 +110,17 @@ void RunRender(const RenderOptions& o, const GlobalOptions& g) {
 }  // namespace
 
 void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<RenderOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "render",
-      "Pictures of a prediction (OUT.json/OUT.npy from 'motionfork predict') or of a motion file.\n"
-      "FILE.png / FILE.svg: a strip figure (a pose every few frames; the history row, then one row "
-      "per\n"
-      "future; left limbs red, right blue, the history in pale tints, a fixed part dashed, "
-      "invalid\n"
-      "samples tinted). FILE.html: a self-contained viewer (no network) animating the history and "
-      "the\n"
-      "futures side by side, with play/pause, a frame slider, sample selection and speed.");
-  cmd->add_option("INPUT", o->input,
-                  "A prediction (.json, or .npy with its .json beside it) or a motion file (.bvh, "
-                  ".npy, .csv)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--out", o->out, "Output file: .png, .svg or .html")->required();
+  const auto [cmd, o] = AddSubcommand<RenderOptions>(
+      &app, global, RunRender, "render",
+      R"(Pictures of a prediction (OUT.json/OUT.npy from 'motionfork predict') or of a motion file.
+FILE.png / FILE.svg: a strip figure (a pose every few frames; the history row, then one row per
+future; left limbs red, right blue, the history in pale tints, a fixed part dashed, invalid
+samples tinted). FILE.html: a self-contained viewer (no network) animating the history and the
+futures side by side, with play/pause, a frame slider, sample selection and speed.)");
+  AddInputFile(cmd, "INPUT", &o->input,
+               "A prediction (.json, or .npy with its .json beside it) or a motion file (.bvh, "
+               ".npy, .csv)");
+  AddOutOption(cmd, &o->out, "Output file: .png, .svg or .html");
   cmd->add_option("--count", o->samples,
                   "Samples shown: the first N (default 5 in a figure, all in the viewer)")
       ->check(CLI::Range(1, 1000000));
@@ -161,7 +154,6 @@ void AddRenderCommand(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--title", o->strip.title,
                   "Title (default: the history file, start frame and model)");
   AddMotionInputOptions(cmd, &o->input_options);
-  cmd->callback([o, &global] { RunRender(*o, global); });
 }
 
 }  // namespace motionfork::app

@@ -1,12 +1,12 @@
 // motionfork synth walk -o FILE: a motion the project makes itself (the demo's built-in history).
 #include <cstdio>
-#include <memory>
 
 #include "app_common.h"
 #include "commands.h"
 #include "config/config_paths.h"
 #include "config/skeleton_config.h"
 #include "core/demo_motion.h"
+#include "flags.h"
 #include "io/motion_file.h"
 
 namespace motionfork::app {
@@ -34,15 +34,13 @@ void RunSynth(const SynthOptions& o, const GlobalOptions& g) {
 }  // namespace
 
 void AddSynthCommand(CLI::App& app, GlobalOptions& global) {
-  auto o = std::make_shared<SynthOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "synth",
-      "Write a synthetic motion made by a simple gait model (no dataset involved): the demo's\n"
-      "built-in history, and a quick input for trying any command. Hip, knee and arm swing,\n"
-      "the pelvis riding on the lower foot; Bandai protocol skeleton (17 joints), metres, Y up.");
+  const auto [cmd, o] = AddSubcommand<SynthOptions>(
+      &app, global, RunSynth, "synth",
+      R"(Write a synthetic motion made by a simple gait model (no dataset involved): the demo's
+built-in history, and a quick input for trying any command. Hip, knee and arm swing,
+the pelvis riding on the lower foot; Bandai protocol skeleton (17 joints), metres, Y up.)");
   cmd->add_option("KIND", o->kind, "Motion to make (walk)")->check(CLI::IsMember({"walk"}));
-  cmd->add_option("-o,--out", o->out, "Output file (.npy, .csv or .bvh); written all-or-nothing")
-      ->required();
+  AddOutOption(cmd, &o->out, "Output file (.npy, .csv or .bvh); written all-or-nothing");
   cmd->add_option("--frames", o->walk.frames, "Frames (default 60)")->check(CLI::PositiveNumber);
   cmd->add_option("--fps", o->walk.fps, "Frame rate, Hz (default 30)")->check(CLI::PositiveNumber);
   cmd->add_option("--speed", o->walk.speed, "Walking speed, m/s (default 1.2)");
@@ -52,7 +50,6 @@ void AddSynthCommand(CLI::App& app, GlobalOptions& global) {
                   "Walking direction, degrees about +Y from +Z (default 0)");
   cmd->add_option("--skeleton", o->skeleton,
                   "Skeleton config (default bandai; the walk needs its joints)");
-  cmd->callback([o, &global] { RunSynth(*o, global); });
 }
 
 }  // namespace motionfork::app

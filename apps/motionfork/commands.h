@@ -24,6 +24,15 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
 void AddExportCommand(CLI::App& app, GlobalOptions& global);
 void AddRenderCommand(CLI::App& app, GlobalOptions& global);
 void AddSynthCommand(CLI::App& app, GlobalOptions& global);
-void AddHgvaeCommand(CLI::App& app, GlobalOptions& global);  // hgvae train|sample|eval, impute, ood
+void AddHgvaeCommand(CLI::App& app, GlobalOptions& global);  // hgvae train (cmd_hgvae.cc)
+// HG-VAE models in use (cmd_impute.cc): hgvae sample, hgvae eval, impute, ood.
+void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global);
+void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global);
+void AddImputeCommand(CLI::App& app, GlobalOptions& global);
+void AddOodCommand(CLI::App& app, GlobalOptions& global);
+void AddDvaeCommand(CLI::App& app, GlobalOptions& global);  // dvae train|finetune (cmd_dvae.cc)
+// Motion-DVAE models in use (cmd_denoise.cc): denoise, dvae eval.
+void AddDenoiseCommand(CLI::App& app, GlobalOptions& global);
+void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global);
 
 }  // namespace motionfork::app

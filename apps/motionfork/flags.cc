@@ -30,6 +30,52 @@ void RequireArgument(const std::string& value, const std::string& name) {
   if (value.empty()) throw CLI::RequiredError(name);
 }
 
+CLI::Option* AddInputFile(CLI::App* cmd, const std::string& name, std::string* path,
+                          const std::string& help) {
+  return cmd->add_option(name, *path, help)->required()->check(CLI::ExistingFile);
+}
+
+CLI::Option* AddModelOption(CLI::App* cmd, std::string* dir, const std::string& help) {
+  return cmd->add_option("--model", *dir, help)->required();
+}
+
+CLI::Option* AddDataOption(CLI::App* cmd, std::string* dir, const std::string& help) {
+  return cmd->add_option("--data", *dir, help)->required()->check(CLI::ExistingDirectory);
+}
+
+void AddDataOptions(CLI::App* cmd, std::string* dir, std::string* split_file,
+                    const std::string& data_help) {
+  AddDataOption(cmd, dir, data_help);
+  cmd->add_option("--split", *split_file, "Split file overriding the protocol's");
+}
+
+CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& help) {
+  return cmd->add_option("-o,--out", *path, help)->required();
+}
+
+void AddThreadsOption(CLI::App* cmd, int* threads) {
+  cmd->add_option("--threads", *threads, "Threads (default 1)")->check(CLI::PositiveNumber);
+}
+
+void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,
+                          const std::string& windows_help) {
+  cmd->add_option("--forecaster", *forecaster,
+                  "Generator bundle for the downstream figures (e.g. models/bandai)");
+  cmd->add_option("--forecast-windows", *windows, windows_help)->check(CLI::PositiveNumber);
+  cmd->add_option("-k", *k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
+}
+
+void AddTrainingRunOptions(CLI::App* cmd, TrainingRunFlags* f, const std::string& out_help) {
+  AddDataOption(cmd, &f->data, "Data folder of the config's protocol");
+  cmd->add_option("--out", f->out, out_help)->required();
+  cmd->add_option("--split", f->split_file, "Split file overriding the protocol's");
+  cmd->add_option("--epochs", f->epochs, "Override the config's epoch count")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--stop-after", f->stop_after,
+                  "Stop after this many epochs of this run (resume later)")
+      ->check(CLI::PositiveNumber);
+}
+
 void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what) {
   cmd->add_option("--json", *destination,
                   what + " as JSON: written to FILE, or printed on stdout with '-' or no FILE")

@@ -3,10 +3,31 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "commands.h"
+
 namespace motionfork::app {
+
+// A subcommand and the options its flags fill (they live as long as the callback that runs it).
+template <typename Options>
+struct Subcommand {
+  CLI::App* cmd;
+  std::shared_ptr<Options> options;
+};
+
+// Adds subcommand `name` with its --help description to `parent`; when it is chosen,
+// run(options, global) runs.
+template <typename Options, typename Run>
+Subcommand<Options> AddSubcommand(CLI::App* parent, GlobalOptions& global, Run run,
+                                  const std::string& name, const std::string& description) {
+  auto options = std::make_shared<Options>();
+  CLI::App* cmd = parent->add_subcommand(name, description);
+  cmd->callback([options, run, &global] { run(*options, global); });
+  return {cmd, options};
+}
 
 // Prints on stderr that `old_spelling` is deprecated and what to write instead (the old spelling
 // goes away in the next release).
@@ -35,6 +56,33 @@ void RequireMotion(const std::string& path);
 // Throws CLI::RequiredError naming `name` when `value` is empty (an option required in one of
 // two spellings, which CLI11 cannot require itself).
 void RequireArgument(const std::string& value, const std::string& name);
+
+// A file the subcommand reads, named by a required positional argument (e.g. "MOTION").
+CLI::Option* AddInputFile(CLI::App* cmd, const std::string& name, std::string* path,
+                          const std::string& help);
+// --model BUNDLE, required.
+CLI::Option* AddModelOption(CLI::App* cmd, std::string* dir, const std::string& help);
+// --data DIR, required, an existing folder.
+CLI::Option* AddDataOption(CLI::App* cmd, std::string* dir, const std::string& help);
+// --data DIR and --split FILE, a split file overriding the protocol's.
+void AddDataOptions(CLI::App* cmd, std::string* dir, std::string* split_file,
+                    const std::string& data_help);
+// -o,--out FILE, required.
+CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& help);
+// --threads N (default 1).
+void AddThreadsOption(CLI::App* cmd, int* threads);
+// --forecaster BUNDLE, --forecast-windows N, -k K: the forecasting figures of the history-repair
+// experiments.
+void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,
+                          const std::string& windows_help);
+
+// The flags of a training run that resumes: --data, --out, --split, --epochs, --stop-after.
+struct TrainingRunFlags {
+  std::string data, out, split_file;
+  int epochs = 0;      // overrides the config's; 0 = the config's
+  int stop_after = 0;  // epochs of this run; 0 = all
+};
+void AddTrainingRunOptions(CLI::App* cmd, TrainingRunFlags* f, const std::string& out_help);
 
 // --json [FILE]: the report as JSON, written to FILE, or printed on stdout when FILE is '-' or
 // left out.

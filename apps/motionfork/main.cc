@@ -8,8 +8,6 @@
 #include "app_common.h"
 #include "commands.h"
 #include "core/error.h"
-#include "dvae_commands.h"
-#include "hgvae_commands.h"
 #include "suggest.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
@@ -35,23 +33,14 @@ int main(int argc, char** argv) {
       "Folder for parsed-dataset caches ('none' disables; default: $MOTIONFORK_CACHE_DIR or "
       "~/.cache/motionfork)");
   app.add_flag("-q,--quiet", global.quiet, "No progress bars");
-  AddInfoCommand(app, global);
-  AddConvertCommand(app, global);
-  AddDatasetCommand(app, global);
-  AddEvalCommand(app, global);
-  AddTrainCommand(app, global);
-  AddPredictCommand(app, global);
-  AddPriorCommand(app, global);
-  AddCheckCommand(app, global);
-  AddConstraintsCommand(app, global);
-  AddExportCommand(app, global);
-  AddRenderCommand(app, global);
-  AddSynthCommand(app, global);
-  AddHgvaeCommand(app, global);
-  AddImputeCommand(app, global);
-  AddOodCommand(app, global);
-  AddDvaeCommand(app, global);
-  AddDenoiseCommand(app, global);
+  // In the order --help lists them.
+  for (auto add :
+       {AddInfoCommand, AddConvertCommand, AddDatasetCommand, AddEvalCommand, AddTrainCommand,
+        AddPredictCommand, AddPriorCommand, AddCheckCommand, AddConstraintsCommand,
+        AddExportCommand, AddRenderCommand, AddSynthCommand, AddHgvaeCommand, AddImputeCommand,
+        AddOodCommand, AddDvaeCommand, AddDenoiseCommand}) {
+    add(app, global);
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,6 +1,9 @@
 #include "motion_options.h"
 
 #include <cstdio>
+#include <memory>
+
+#include "app_common.h"
 
 namespace motionfork::app {
 
@@ -20,6 +23,16 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
 MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir) {
   o.config_dir = config_dir;
   return o;
+}
+
+MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOptions& input,
+                                  const GlobalOptions& global, const Skeleton& skeleton, double fps,
+                                  const std::vector<std::string>& masks, uint64_t seed) {
+  MotionWithGaps in =
+      pipeline::LoadMotionWithGaps(path, WithConfigDir(input, ConfigDir(global.config_dir)),
+                                   std::make_shared<const Skeleton>(skeleton), fps, masks, seed);
+  NoteResampling(path, in.resampled_from, in.motion.fps());
+  return in;
 }
 
 void NoteResampling(const std::string& path, double from_fps, double to_fps) {

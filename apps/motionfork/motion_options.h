@@ -3,8 +3,11 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
+#include <vector>
 
+#include "commands.h"
 #include "pipeline/motion_input.h"
 
 namespace motionfork::app {
@@ -17,6 +20,13 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o);
 
 // The options as parsed, with the configs folder that --skeleton names are looked up in.
 MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir);
+
+// The motion file on a model's skeleton and at its frame rate (pipeline::LoadMotionWithGaps;
+// --skeleton names looked up in the configs folder), with NoteResampling's note; masks as --mask
+// gives them (random ones drawn from the seed).
+MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOptions& input,
+                                  const GlobalOptions& global, const Skeleton& skeleton, double fps,
+                                  const std::vector<std::string>& masks = {}, uint64_t seed = 0);
 
 // Prints "note: resampling PATH from A Hz to the model's B Hz" on stderr when the motion was
 // resampled on the way in (from_fps > 0).

@@ -3,13 +3,8 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
-#include <vector>
 
 namespace motionfork::app {
-
-// The candidate closest to `word` by edit distance when it is close enough to be a typo (at most
-// 2 edits, and fewer than half its length), else "".
-std::string ClosestName(const std::string& word, const std::vector<std::string>& candidates);
 
 // When argv names an unknown subcommand (at any level) or an unknown --option of the subcommand it
 // follows, a message naming it and the closest known name; "" when nothing looks mistyped.

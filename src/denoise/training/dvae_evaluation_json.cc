@@ -1,0 +1,33 @@
+#include "denoise/training/dvae_evaluation_json.h"
+
+#include <nlohmann/json.hpp>
+
+#include "eval/history_forecasting_json.h"
+
+namespace motionfork {
+
+// Keys in alphabetical order (nlohmann::json's), as the reports have always had them.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DenoisingRow, noise, noisy_cm, smooth_cm, denoised_cm, removed,
+                                   optimised_cm, optimised_noisy_cm, removed_optimised,
+                                   smooth_removed, accel_ratio_noisy, accel_ratio_smooth,
+                                   accel_ratio_denoised, accel_ratio_optimised)
+
+nlohmann::ordered_json DvaeEvaluationJson(const DvaeEvaluation& e, const std::string& model_path) {
+  using json = nlohmann::ordered_json;
+  json j = {{"model", model_path},
+            {"clips", e.clips},
+            {"frames", e.frames},
+            {"clean_accel", e.clean_accel},
+            {"samples", e.samples},
+            {"iterations", e.iterations},
+            {"optimisation_clips", e.optimisation_clips},
+            {"regression_frames_per_s", e.regression_frames_per_s},
+            {"settings", json(nlohmann::json(e.settings))}};
+  if (e.optimisation_clips > 0) j["optimisation_frames_per_s"] = e.optimisation_frames_per_s;
+  if (e.forecasting) {
+    j["forecasting"] = ForecastingJson(*e.forecasting, "noise", "noisy", "denoised");
+  }
+  return j;
+}
+
+}  // namespace motionfork
