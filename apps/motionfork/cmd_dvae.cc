@@ -7,7 +7,6 @@
 #include "commands.h"
 #include "config/config_paths.h"
 #include "denoise/training/dvae_training.h"
-#include "denoise/training/dvae_training_manifest.h"
 #include "experiment_common.h"
 #include "flags.h"
 
@@ -41,7 +40,7 @@ Loaded LoadForTraining(const DvaeTrainCmd& o, const GlobalOptions& g, bool finet
       "Motion-DVAE: windows of %d frames x %d joints; %zu training clips (%s frames), %zu held "
       "out\n",
       l.config.model.window, l.data.joints, l.data.train.size(),
-      WithThousands(TrainingFrames(l.data)).c_str(), l.data.held_out.size());
+      WithThousands(l.data.train_frames()).c_str(), l.data.held_out.size());
   return l;
 }
 

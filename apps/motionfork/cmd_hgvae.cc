@@ -8,7 +8,6 @@
 #include "experiment_common.h"
 #include "flags.h"
 #include "imputation/training/hgvae_training.h"
-#include "imputation/training/hgvae_training_manifest.h"
 
 namespace motionfork::app {
 namespace {
@@ -46,8 +45,8 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, const GlobalOptions& g) {
   std::printf(
       "HG-VAE: windows of %d frames x %d coordinates; %zu training clips (%s frames), %zu held "
       "out%s\n",
-      cfg.model.window, coords, data.train.poses.size(),
-      WithThousands(TrainingFrames(data)).c_str(), data.held_out.poses.size(),
+      cfg.model.window, coords, data.train.poses.size(), WithThousands(data.train_frames()).c_str(),
+      data.held_out.poses.size(),
       data.classes.empty()
           ? ""
           : (", " + std::to_string(data.classes.size()) + " action classes").c_str());

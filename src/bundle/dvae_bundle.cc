@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "bundle/manifest.h"
+#include "bundle/protocol_manifest.h"
 #include "bundle/torch_bundle.h"
 #include "bundle/train_config_keys.h"
 #include "config/skeleton_yaml.h"
@@ -214,6 +215,14 @@ DvaeModel LoadDvaeModel(const std::string& dir) {
   DvaeManifest m;
   DvaeNet net = LoadDvaeBundle(dir, &m);
   return DvaeModel::FromNet(std::move(m), std::move(net));
+}
+
+DvaeManifest DvaeTrainingManifest(const DvaeTrainConfig& config, const ProtocolOptions& protocol,
+                                  const Skeleton& skeleton) {
+  DvaeManifest m = ProtocolManifest<DvaeManifest>(config, protocol, skeleton);
+  m.noise_prior = config.noise_prior;
+  m.denoise = config.denoise;
+  return m;
 }
 
 }  // namespace motionfork

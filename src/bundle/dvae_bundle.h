@@ -6,6 +6,8 @@
 #include <string>
 
 #include "bundle/bundle_files.h"
+#include "core/skeleton.h"
+#include "dataset/protocol_options.h"
 #include "denoise/dvae_model.h"
 #include "denoise/dvae_net.h"
 #include "denoise/dvae_options.h"
@@ -27,5 +29,11 @@ void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net)
 DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m);
 // Reads DIR/dvae.yaml and DIR/dvae.pt (was DvaeModel::Load).
 DvaeModel LoadDvaeModel(const std::string& dir);
+
+// The manifest of the bundle a training run with `config` on `protocol` writes: the protocol's
+// timing and skeleton (`skeleton`, the protocol's) and the recipe's provenance
+// (bundle/protocol_manifest.h), with the config's noise prior and denoising defaults.
+DvaeManifest DvaeTrainingManifest(const DvaeTrainConfig& config, const ProtocolOptions& protocol,
+                                  const Skeleton& skeleton);
 
 }  // namespace motionfork

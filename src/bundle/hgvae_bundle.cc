@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "bundle/manifest.h"
+#include "bundle/protocol_manifest.h"
 #include "bundle/torch_bundle.h"
 #include "bundle/train_config_keys.h"
 #include "config/skeleton_yaml.h"
@@ -202,6 +203,15 @@ void RewriteHgvaeManifest(const std::string& dir, const HgvaeManifest& m) {
   BundleChecksums sums;
   LoadHgvaeManifest(path, &sums);
   WriteFileAtomically(path, FormatHgvaeManifest(m, sums));
+}
+
+HgvaeManifest HgvaeTrainingManifest(const HgvaeTrainConfig& config, const ProtocolOptions& protocol,
+                                    const Skeleton& skeleton) {
+  HgvaeManifest m = ProtocolManifest<HgvaeManifest>(config, protocol, skeleton);
+  m.ood_k = config.ood_k;
+  m.ood_score = config.ood_score;
+  m.impute = config.impute;
+  return m;
 }
 
 }  // namespace motionfork

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "bundle/bundle_files.h"
+#include "core/skeleton.h"
+#include "dataset/protocol_options.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/hgvae_net.h"
 #include "imputation/hgvae_options.h"
@@ -32,5 +34,11 @@ HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m);
 HgvaeModel LoadHgvaeModel(const std::string& dir);
 // Rewrites DIR/hgvae.yaml with m, keeping the recorded checksums.
 void RewriteHgvaeManifest(const std::string& dir, const HgvaeManifest& m);
+
+// The manifest of the bundle a training run with `config` on `protocol` writes: the protocol's
+// timing and skeleton (`skeleton`, the protocol's) and the recipe's provenance
+// (bundle/protocol_manifest.h), with the config's out-of-distribution rule and imputation defaults.
+HgvaeManifest HgvaeTrainingManifest(const HgvaeTrainConfig& config, const ProtocolOptions& protocol,
+                                    const Skeleton& skeleton);
 
 }  // namespace motionfork

@@ -38,6 +38,12 @@ DvaeData MakeDvaeData(const Dataset& dataset, double held_out_share, uint64_t se
   return data;
 }
 
+long long DvaeData::train_frames() const {
+  long long frames = 0;
+  for (const auto& clip : train) frames += clip.size() / (3 * joints);
+  return frames;
+}
+
 namespace {
 
 // Window values of many windows of one length, [count, length, J * 3].

@@ -21,6 +21,9 @@ namespace motionfork {
 struct DvaeData {
   int joints = 0;
   std::vector<std::vector<float>> train, held_out;  // per clip [T, J, 3], metres
+
+  // Frames of the training clips (held-out ones not counted).
+  long long train_frames() const;
 };
 
 // The training split's clips of >= window frames; a share of them (chosen by the seed) held out.

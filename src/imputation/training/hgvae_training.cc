@@ -73,6 +73,12 @@ std::vector<float> HeldOutWindows(const HgvaeClips& clips, int window, int coord
   return out;
 }
 
+long long HgvaeData::train_frames() const {
+  long long frames = 0;
+  for (const auto& p : train.poses) frames += p.size() / coords;
+  return frames;
+}
+
 namespace {
 
 void ComputeNormalisation(const HgvaeClips& clips, int coords, HgvaeManifest* m) {

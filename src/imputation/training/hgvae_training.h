@@ -26,6 +26,9 @@ struct HgvaeData {
   int coords = 0;
   HgvaeClips train, held_out;        // held_out: a share of the training split's clips
   std::vector<std::string> classes;  // conditional training: the actions, sorted
+
+  // Frames of the training clips (held-out ones not counted).
+  long long train_frames() const;
 };
 
 // Training split only; held-out clips chosen by the seed. With condition "action" every clip's
