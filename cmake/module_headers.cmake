@@ -36,3 +36,21 @@ function(motionfork_publish_headers target)
   endforeach()
   target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${root}>)
 endfunction()
+
+# One library module: every *.cc beside the CMakeLists.txt, its headers published as above, and its
+# links. TORCH: a LibTorch module (links motionfork_torch_util, reuses its precompiled header).
+#
+#   motionfork_add_module(<target> [TORCH] [PUBLIC lib ...] [PRIVATE lib ...])
+function(motionfork_add_module target)
+  cmake_parse_arguments(arg "TORCH" "" "PUBLIC;PRIVATE" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cc)
+  add_library(${target} ${sources})
+  motionfork_publish_headers(${target})
+  if(arg_TORCH)
+    list(APPEND arg_PUBLIC motionfork_torch_util)
+  endif()
+  target_link_libraries(${target} PUBLIC ${arg_PUBLIC} PRIVATE ${arg_PRIVATE})
+  if(arg_TORCH)
+    target_precompile_headers(${target} REUSE_FROM motionfork_torch_util)
+  endif()
+endfunction()

@@ -110,26 +110,6 @@ void EpochBars::PrintEpoch(int epoch, double seconds,
 
 void PrintMessage(const std::string& message) { std::printf("%s\n", message.c_str()); }
 
-std::string WithThousands(long long n) {
-  std::string digits = std::to_string(n < 0 ? -n : n);
-  std::string out;
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return n < 0 ? "-" + out : out;
-}
-
-std::string Duration(double seconds) {
-  char buf[64];
-  if (seconds < 60) {
-    std::snprintf(buf, sizeof(buf), "%.1f s", seconds);
-  } else if (seconds < 3600) {
-    std::snprintf(buf, sizeof(buf), "%d min %02d s", int(seconds / 60), int(seconds) % 60);
-  } else {
-    std::snprintf(buf, sizeof(buf), "%d h %02d min", int(seconds / 3600), int(seconds / 60) % 60);
-  }
-  return buf;
-}
+void PrintText(const std::string& text) { std::fputs(text.c_str(), stdout); }
 
 }  // namespace motionfork::app

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/progress.h"
+#include "core/text_format.h"
 
 namespace motionfork::app {
 
@@ -79,9 +80,7 @@ class EpochBars {
 // Prints a library's message as a line on stdout.
 void PrintMessage(const std::string& message);
 
-// "1,234,567"
-std::string WithThousands(long long n);
-// "12.3 s", "4 min 05 s", "1 h 02 min"
-std::string Duration(double seconds);
+// Prints a library's text report (core/text_format.h: WithThousands, Duration) as it is.
+void PrintText(const std::string& text);
 
 }  // namespace motionfork::app

@@ -10,9 +10,11 @@
 #include "core/error.h"
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
+#include "denoise/denoised_motion_text.h"
 #include "denoise/dvae_model.h"
 #include "denoise/training/dvae_evaluation.h"
 #include "denoise/training/dvae_evaluation_json.h"
+#include "denoise/training/dvae_evaluation_text.h"
 #include "experiment_common.h"
 #include "flags.h"
 #include "generator/training/history_forecaster.h"
@@ -105,26 +107,14 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
     throw FormatError(o.motion + ": " + e.what());
   }
   WriteMotionFile(o.out, out);
-  const double moved = MeanJointError(motion.positions(), out.positions());
-  std::printf(
-      "denoised %d frames (%d window%s of <= %d frames, %s mode%s) in %.3f s (%.0f frames/s); "
-      "mean change %.2f cm per joint\n",
-      out.num_frames(), stats.windows, stats.windows == 1 ? "" : "s", model.window(),
-      ToString(options.mode),
-      options.mode == DenoiseMode::kOptimisation
-          ? (", " + std::to_string(options.iterations) + " iterations").c_str()
-          : "",
-      stats.seconds, out.num_frames() / std::max(1e-9, stats.seconds), 100 * moved);
+  PrintText(DenoisedMotionText(model, options, stats, motion, out));
   if (!o.noise.empty()) {
     std::printf("against the file before --add-noise: noisy %.2f cm, denoised %.2f cm per joint\n",
                 100 * MeanJointError(motion.positions(), in.motion.positions()),
                 100 * MeanJointError(out.positions(), in.motion.positions()));
   }
-  std::printf("noise model's typical std per joint (cm):");
-  for (int j = 0; j < model.joints(); ++j) {
-    std::printf(" %s %.1f", model.skeleton().joint_names()[j].c_str(), 100 * stats.noise_std[j]);
-  }
-  std::printf("\nwrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), out.num_frames(), out.fps());
+  PrintText(NoiseModelText(model, stats));
+  std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), out.num_frames(), out.fps());
 }
 
 // ---- dvae eval ----
@@ -137,41 +127,9 @@ struct EvalCmd {
 
 // The header once the clips are chosen, then each noise kind's row as it is measured.
 void PrintProgress(const EvalCmd& o, const DvaeModel& model, const DvaeEvaluation& e) {
-  if (e.settings.empty()) {
-    std::printf(
-        "Motion-DVAE %s (%s parameters%s), %d test clips (%s frames, style '%s' unseen in "
-        "training);\n"
-        "clean acceleration %.2f m/s^2; %d posterior draws; optimisation mode on the first %d "
-        "clips (%s frames), %d iterations\n",
-        o.model.c_str(), WithThousands(model.num_parameters()).c_str(),
-        model.manifest().finetuned ? ", fine-tuned on noisy data" : ", prior only", e.clips,
-        WithThousands(e.frames).c_str(), e.test_style.c_str(), e.clean_accel, e.samples,
-        e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations);
-    std::printf(
-        "\n%-18s %9s %9s %8s %9s %9s %8s   accel / clean: noisy  smooth  denoised  optimised\n",
-        "noise (cm error)", "noisy", "smooth", "denoised", "removed", "optimised", "removed");
-    return;
-  }
-  auto num = [](double v, const char* format) {
-    char buf[32];
-    std::snprintf(buf, sizeof(buf), format, v);
-    return std::isfinite(v) ? std::string(buf) : std::string("-");
-  };
-  const DenoisingRow& r = e.settings.back();
-  std::printf("%-18s %9.2f %9.2f %8.2f %9s %9s %8s   %19.2f %7.2f %9.2f %10s\n", r.noise.c_str(),
-              r.noisy_cm, r.smooth_cm, r.denoised_cm, num(100 * r.removed, "%.1f%%").c_str(),
-              num(r.optimised_cm, "%.2f").c_str(), num(100 * r.removed_optimised, "%.1f%%").c_str(),
-              r.accel_ratio_noisy, r.accel_ratio_smooth, r.accel_ratio_denoised,
-              num(r.accel_ratio_optimised, "%.2f").c_str());
+  PrintText(e.settings.empty() ? DvaeEvaluationHeaderText(e, model, o.model).c_str()
+                               : DenoisingRowText(e.settings.back()));
   std::fflush(stdout);
-}
-
-void PrintForecasting(const ForecastingFigures& f) {
-  std::printf(
-      "\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE, clean history "
-      "%.3f / %.3f\n",
-      f.forecaster.c_str(), f.k, f.windows, f.clean.ade, f.clean.fde);
-  PrintRepairedForecasts(f, 18, "noisy", "denoised");
 }
 
 void RunEval(EvalCmd o, const GlobalOptions& g) {
@@ -186,17 +144,7 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
     bar.Update(double(partial.settings.size()) / o.eval.noises.size());
   });
   bar.Finish();
-  std::printf(
-      "(smooth: Gaussian over time, sigma %.3g frames, a baseline; optimised: on the first %d "
-      "clips, against\n"
-      "their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
-      o.eval.smooth_sigma, e.optimisation_clips, o.threads, e.regression_frames_per_s);
-  if (e.optimisation_clips > 0) {
-    std::printf(", optimisation %.0f frames/s (%d iterations per sequence)",
-                e.optimisation_frames_per_s, e.iterations);
-  }
-  std::printf("\n");
-  if (e.forecasting) PrintForecasting(*e.forecasting);
+  PrintText(DvaeEvaluationFooterText(e, o.eval, o.threads));
   EmitJson(o.json_out, DvaeEvaluationJson(e, o.model));
 }
 

@@ -10,6 +10,7 @@
 #include "flags.h"
 #include "generator/training/eval_experiment.h"
 #include "generator/training/eval_experiment_json.h"
+#include "generator/training/eval_experiment_text.h"
 
 namespace motionfork::app {
 namespace {
@@ -20,73 +21,6 @@ struct EvalCommandOptions {
   bool no_repair = false;
   std::string json;
 };
-
-void PrintRow(const std::string& label, const Figures& f, bool fixed) {
-  std::printf("%-24s %8s %7.3f %7.3f %7.3f %7.3f %7.3f %9.1f", label.c_str(),
-              WithThousands(f.windows).c_str(), f.apd, f.ade, f.fde, f.mmade, f.mmfde,
-              f.mean_set_size);
-  if (fixed) std::printf(" %10.3f %9.3f", f.apd_varied, f.apd_fixed);
-  std::printf("\n");
-}
-
-void PrintHeader(const EvalCommandOptions& o, const EvalExperiment& x) {
-  const ProtocolOptions& p = x.protocol;
-  const EvalResult& r = x.result;
-  if (!x.scorers_described.empty()) {
-    std::printf("plausibility figures: %s\n", x.scorers_described.c_str());
-  }
-  std::printf("protocol:   %s (%s), %.6g Hz, t_his %d, t_pred %d\n", p.name.c_str(), p.path.c_str(),
-              p.fps, p.t_his, p.t_pred);
-  std::printf("test:       %s: %s windows from %s clips (stride %d, %s)\n", x.test_source.c_str(),
-              WithThousands(x.windows).c_str(), WithThousands(x.clips).c_str(), p.test_stride,
-              p.test_include_last ? "last start included" : "last start excluded");
-  std::printf(
-      "multimodal: threshold %.6g m on the last history pose, mean set size %.1f, %s (%s)\n",
-      p.multimodal_threshold, r.overall.mean_set_size,
-      p.keep_singleton_sets
-          ? "singleton sets kept"
-          : ("singleton sets skipped: " + WithThousands(r.windows_skipped) + " windows").c_str(),
-      x.multimodal_cached ? "from the cache" : "computed");
-  std::printf("predictor:  %s%s%s\n", x.predictor_name.c_str(),
-              x.predictor_description.empty() ? "" : ": ", x.predictor_description.c_str());
-  std::printf("samples:    K = %d, seed %llu%s\n", o.experiment.k,
-              static_cast<unsigned long long>(o.experiment.seed),
-              r.fixed_part.empty()
-                  ? ""
-                  : (", fixed part '" + r.fixed_part + "' (shared by every sample)").c_str());
-  if (x.overlaps_training) {
-    std::printf(
-        "note:       the evaluated windows overlap the nearest-neighbour training windows\n");
-  }
-}
-
-void PrintTable(const EvalExperiment& x) {
-  const EvalResult& r = x.result;
-  const bool fixed = !r.fixed_part.empty();
-  std::printf("\n%-24s %8s %7s %7s %7s %7s %7s %9s", "action", "windows", "APD", "ADE", "FDE",
-              "MMADE", "MMFDE", "mm set");
-  if (fixed) std::printf(" %10s %9s", "APD varied", "APD fixed");
-  std::printf("\n");
-  PrintRow("all", r.overall, fixed);
-  if (x.actions.size() > 1 || (x.actions.size() == 1 && !x.actions[0].empty())) {
-    for (size_t a = 0; a < x.actions.size(); ++a) {
-      if (r.per_action[a].windows == 0) continue;
-      PrintRow(x.actions[a].empty() ? "(unlabelled)" : x.actions[a], r.per_action[a], fixed);
-    }
-  }
-  const double measured = r.seconds_predicting + r.seconds_metrics + r.seconds_scoring;
-  std::printf(
-      "\nmetres; APD, ADE, FDE: whole pose vectors (%d numbers a frame), min over samples\n",
-      x.pose_dims);
-  std::printf(
-      "time:       %s in all: loading %s, test windows + multimodal sets %s, predictor setup "
-      "%s,\n            predictor %s (%.0f%%), metrics %s (%.0f%%)\n",
-      Duration(x.seconds_total).c_str(), Duration(x.seconds_loading).c_str(),
-      Duration(x.seconds_multimodal).c_str(), Duration(x.seconds_predictor_setup).c_str(),
-      Duration(r.seconds_predicting).c_str(),
-      measured > 0 ? 100 * r.seconds_predicting / measured : 0.0,
-      Duration(r.seconds_metrics).c_str(), measured > 0 ? 100 * r.seconds_metrics / measured : 0.0);
-}
 
 void RunEval(EvalCommandOptions o, const GlobalOptions& g) {
   EvalExperimentOptions& e = o.experiment;
@@ -105,8 +39,7 @@ void RunEval(EvalCommandOptions o, const GlobalOptions& g) {
   e.progress = bars.Callback();
   const EvalExperiment x = RunEvalExperiment(e);
   bars.Finish();
-  PrintHeader(o, x);
-  PrintTable(x);
+  PrintText(EvalExperimentText(o.experiment, x));
   if (!o.json.empty()) EmitJson(o.json, EvalExperimentJson(o.experiment, x));
 }
 

@@ -14,9 +14,11 @@
 #include "imputation/motion_imputation.h"
 #include "imputation/motion_imputation_json.h"
 #include "imputation/motion_imputation_summary.h"
+#include "imputation/motion_imputation_text.h"
 #include "imputation/motion_sampling.h"
 #include "imputation/training/hgvae_evaluation.h"
 #include "imputation/training/hgvae_evaluation_json.h"
+#include "imputation/training/hgvae_evaluation_text.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
 
@@ -76,18 +78,7 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
                 o.motion.c_str(), o.out.c_str());
     return;
   }
-  const ImputationScoreSummary scores = SummariseScores(model, r);
-  std::printf(
-      "imputed %d of %zu values (%.1f%%) in %zu windows of %d frames (%d Adam steps, %s "
-      "objective)\n",
-      r.missing_values, total, 100.0 * r.missing_values / total, r.window_starts.size(),
-      model.window(), options.steps, ToString(options.objective));
-  std::printf(
-      "%s score per window: %.1f with the training mean -> %.1f imputed (training windows: %.1f +- "
-      "%.1f);"
-      " out of distribution: %d -> %d windows\n",
-      ToString(model.manifest().ood_score), scores.mean_before, scores.mean_after,
-      model.manifest().score_mean, model.manifest().score_std, scores.ood_before, scores.ood_after);
+  PrintText(MotionImputationText(model, r, total, options));
   std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), r.motion.num_frames(),
               r.motion.fps());
 }
@@ -114,18 +105,7 @@ void RunOod(const OodCmd& o, GlobalOptions& g) {
     throw FormatError(o.motion + ": " + e.what());
   }
   const int flagged = CountOutOfDistribution(scores);
-  std::printf("window  frames       score   out of distribution (threshold %ld)\n",
-              std::lround(model.OodThreshold()));
-  for (size_t w = 0; w < scores.size(); ++w) {
-    const WindowScore& s = scores[w];
-    std::printf("%6zu  %5d-%-5d %9.1f   %s\n", w, s.start, s.start + model.window() - 1, s.score,
-                s.out_of_distribution ? "yes" : "no");
-  }
-  std::printf(
-      "%d of %zu windows out of distribution (%s score below the training windows' mean %.1f - "
-      "%.3g x std %.1f)\n",
-      flagged, scores.size(), ToString(model.manifest().ood_score), model.manifest().score_mean,
-      model.manifest().ood_k, model.manifest().score_std);
+  PrintText(WindowScoresText(model, scores));
   EmitJson(o.json_out, WindowScoresJson(model, scores, o.model, o.motion));
   g.exit_code = flagged > 0 ? 1 : 0;
 }
@@ -155,48 +135,6 @@ struct EvalCmd {
   ImputeFlags flags;
 };
 
-void PrintLikelihood(const HgvaeLikelihood& l) {
-  std::printf(
-      "\nlikelihood (nats per window, densities in metres): ELBO %.1f, reconstruction MSE %.3g "
-      "cm^2 (posterior means; %.3g sampled), KL",
-      l.elbo_nats, 1e4 * l.recon_mse_m2, 1e4 * l.recon_mse_sampled_m2);
-  for (double kl : l.kl_levels) std::printf(" %.1f", kl);
-  std::printf(" (total %.1f); posterior score %.1f, joint score %.1f\n", l.kl_total,
-              l.posterior_score_mean, l.joint_score_mean);
-}
-
-void PrintImputation(const HgvaeEvaluation& e, const ImputeOptions& options) {
-  std::printf("\nimputation (%d Adam steps, lr %.3g, %s objective): MSE per missing value, cm^2\n",
-              options.steps, options.learning_rate, ToString(options.objective));
-  std::printf("  %-12s %10s %10s %10s %10s   score mean-filled -> imputed\n", "occlusion",
-              "missing", "mean", "HG-VAE", "reduction");
-  for (const ImputationFigure& x : e.imputation) {
-    std::printf("  %-12s %10lld %10.3f %10.3f %9.1f%%   %.1f -> %.1f\n", x.occlusion.name.c_str(),
-                static_cast<long long>(x.missing_values), 1e4 * x.mse_mean, 1e4 * x.mse_model,
-                100 * x.reduction, x.score_before, x.score_after);
-  }
-}
-
-void PrintOod(const HgvaeEvaluation& e, const HgvaeModel& model) {
-  std::printf(
-      "\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior score; "
-      "share flagged by the bundle's rule (%s score < %.1f)\n",
-      ToString(model.manifest().ood_score), model.OodThreshold());
-  std::printf("  %-22s %12s %12s %8s\n", "windows", "AUROC joint", "posterior", "flagged");
-  std::printf("  %-22s %12s %12s %7.1f%%\n", "clean", "-", "-", 100.0 * e.clean_flagged);
-  for (const OodTest& t : e.ood) {
-    std::printf("  %-22s %12.4f %12.4f %7.1f%%\n", t.degradation.c_str(), t.auroc_joint,
-                t.auroc_posterior, 100.0 * t.flagged);
-  }
-}
-
-void PrintForecasting(const ForecastingFigures& f) {
-  std::printf("\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE from\n",
-              f.forecaster.c_str(), f.k, f.windows);
-  std::printf("  %-12s clean %.3f / %.3f\n", "", f.clean.ade, f.clean.fde);
-  PrintRepairedForecasts(f, 12, "mean-imputed", "HG-VAE-imputed");
-}
-
 void RunEval(EvalCmd o, const GlobalOptions& g) {
   const HgvaeModel model = LoadHgvaeModel(o.model);
   const HgvaeManifest& m = model.manifest();
@@ -207,17 +145,7 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
   o.eval.progress = bars.Callback();
   const HgvaeEvaluation e = EvaluateHgvae(model, ds, o.eval);
   bars.Finish();
-  std::printf(
-      "HG-VAE %s (%s parameters, %zu levels, %d stochastic) on the %s test split: %d windows of %d "
-      "frames\n",
-      o.model.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
-      e.stochastic_levels, m.protocol.c_str(), e.windows, e.window_frames);
-  PrintLikelihood(e.likelihood);
-  if (!e.likelihood_only) {
-    PrintImputation(e, o.eval.impute);
-    PrintOod(e, model);
-  }
-  if (e.forecasting) PrintForecasting(*e.forecasting);
+  PrintText(HgvaeEvaluationText(e, model, o.model, o.eval.impute));
   EmitJson(o.json_out, HgvaeEvaluationJson(e, model, o.model, o.eval.impute));
 }
 

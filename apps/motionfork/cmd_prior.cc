@@ -17,7 +17,9 @@
 #include "motion_options.h"
 #include "pipeline/prior_score.h"
 #include "pipeline/prior_score_json.h"
+#include "pipeline/prior_score_text.h"
 #include "pipeline/prior_training.h"
+#include "pipeline/prior_training_text.h"
 #include "torch_util/threads.h"
 
 namespace motionfork::app {
@@ -48,33 +50,6 @@ struct SampleOptions {
 // ---------------------------------------------------------------------------------------------
 // train
 
-void PrintStart(const PosePrior& prior, const PriorData& data, const std::string& config_path,
-                const pipeline::PriorTrainingRequest& o) {
-  const PriorTrainOptions& t = prior.config().training;
-  std::printf(
-      "prior:     %d layers, %d reflections each, %s parameters, %d numbers per pose (%s)\n",
-      prior.config().model.num_layers, prior.config().model.num_reflections,
-      WithThousands(prior.num_parameters()).c_str(), prior.dim(), config_path.c_str());
-  std::printf(
-      "data:      %s, protocol %s: train %s frames (%s clips), held-out %s frames (%s "
-      "training clips, %.0f%%), test %s frames",
-      o.data.c_str(), prior.summary().protocol.c_str(), WithThousands(data.train.size()).c_str(),
-      WithThousands(data.train_clips).c_str(), WithThousands(data.held_out.size()).c_str(),
-      WithThousands(static_cast<long long>(data.held_out_clips.size())).c_str(),
-      100 * t.held_out_share, WithThousands(data.test.size()).c_str());
-  if (t.frame_stride > 1) std::printf(", every %d-th frame", t.frame_stride);
-  if (data.dropped_frames > 0) {
-    std::printf(", %s frames skipped (zero-length bone)",
-                WithThousands(data.dropped_frames).c_str());
-  }
-  std::printf(
-      "\ntraining:  %d epochs, batch %d, Adam lr %g (constant %d epochs, then linear), weight "
-      "decay %g, seed %llu, %d thread%s\n",
-      t.epochs, t.batch_size, t.learning_rate, t.constant_epochs, t.weight_decay,
-      static_cast<unsigned long long>(t.seed), o.threads, o.threads == 1 ? "" : "s");
-  std::fflush(stdout);
-}
-
 // Per-epoch bars on a terminal only: in a log the epoch lines say it all.
 PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& checkpoint,
                                  std::shared_ptr<std::unique_ptr<ProgressBar>> bar) {
@@ -93,15 +68,12 @@ PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& chec
         *bar = std::make_unique<ProgressBar>(
             "epoch " + std::to_string(p.epoch + 1) + "/" + std::to_string(p.epochs), bars);
       }
-      char nll[32];
-      std::snprintf(nll, sizeof(nll), "NLL %.3f", p.train_nll);
-      (*bar)->Update(static_cast<double>(p.step) / p.steps_per_epoch, nll);
+      (*bar)->Update(static_cast<double>(p.step) / p.steps_per_epoch,
+                     StringPrintf("NLL %.3f", p.train_nll));
       return;
     }
     bar->reset();
-    std::printf("epoch %2d/%d  lr %.2e  train NLL %9.4f  held-out NLL %9.4f  (%s)\n", p.epoch + 1,
-                p.epochs, p.learning_rate, p.train_nll, p.held_out_nll,
-                Duration(p.epoch_seconds).c_str());
+    PrintText(pipeline::PriorEpochText(p));
     std::fflush(stdout);
   };
   return callbacks;
@@ -118,7 +90,8 @@ void RunTrain(pipeline::PriorTrainingRequest o, GlobalOptions& g) {
   callbacks.loading = loading.Callback();
   callbacks.started = [&](const PosePrior& prior, const PriorData& data, const std::string& path) {
     loading.Finish();
-    PrintStart(prior, data, path, o);
+    PrintText(pipeline::PriorTrainingStartText(prior, data, path, o));
+    std::fflush(stdout);
   };
   callbacks.training =
       EpochReports(g, (std::filesystem::path(o.out) / "checkpoint.pt").string(), bar);
@@ -141,13 +114,7 @@ void RunTrain(pipeline::PriorTrainingRequest o, GlobalOptions& g) {
     g.exit_code = kExitInterrupted;
     return;
   }
-  const PriorTrainingSummary& y = run.summary;
-  std::printf(
-      "done:      held-out NLL %.4f (median %.4f, 99th percentile %.4f), test NLL %.4f "
-      "nats per pose; %s of training\n",
-      y.held_out_nll.empty() ? std::nan("") : y.held_out_nll.back(), y.held_out_nll_q50,
-      y.held_out_nll_q99, y.test_nll, Duration(y.seconds).c_str());
-  std::printf("bundle:    %s (prior.yaml, weights.npy, train_log.tsv)\n", o.out.c_str());
+  PrintText(pipeline::PriorTrainingDoneText(run.summary, o.out));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -159,35 +126,11 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
   const Motion motion = pipeline::OnPriorSkeleton(lm, prior, config_dir);
   const pipeline::PriorScore s = pipeline::ScorePoses(prior, motion);
-  const int T = static_cast<int>(s.nll.size());
-  const bool known = std::isfinite(s.held_out_q99);
   if (o.json == "-") {
     EmitJson("-", pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));
     return;
   }
-  std::printf("file:      %s (%d frames at %.6g Hz)\n", o.file.c_str(), T, motion.fps());
-  std::printf("prior:     %s (skeleton %s, trained on %s)\n", o.model.c_str(),
-              prior.skeleton().name().c_str(),
-              prior.summary().protocol.empty() ? "unknown data" : prior.summary().protocol.c_str());
-  if (!o.summary_only) {
-    std::printf("\n%6s %12s\n", "frame", "NLL");
-    for (int t = 0; t < T; ++t) {
-      std::printf(
-          "%6d %12.4f%s\n", t, s.nll[t],
-          known && s.nll[t] > s.held_out_q99 ? "  above the 99th percentile of real poses" : "");
-    }
-    std::printf("\n");
-  }
-  std::printf(
-      "NLL (nats per pose; lower = more plausible): mean %.4f, median %.4f, best %.4f "
-      "(frame %d), worst %.4f (frame %d)\n",
-      s.mean, s.median, s.min, s.best_frame, s.max, s.worst_frame);
-  if (known) {
-    std::printf(
-        "real held-out poses score: median %.4f, 99th percentile %.4f; frames above it: "
-        "%d of %d (%.1f%%)\n",
-        s.held_out_q50, s.held_out_q99, s.above_q99, T, 100.0 * s.above_q99 / T);
-  }
+  PrintText(pipeline::PriorScoreText(o.file, o.model, prior, motion, s, !o.summary_only));
   EmitJson(o.json, pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));
 }
 

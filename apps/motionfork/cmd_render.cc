@@ -1,8 +1,5 @@
 // motionfork render INPUT -o FILE.png|.svg|.html: pictures of a prediction (or a motion file).
-#include <algorithm>
-#include <cctype>
 #include <cstdio>
-#include <filesystem>
 
 #include "app_common.h"
 #include "commands.h"
@@ -10,14 +7,11 @@
 #include "io/file_util.h"
 #include "io/prediction_file.h"
 #include "motion_options.h"
-#include "render/html_viewer.h"
+#include "render/picture.h"
 #include "render/scene.h"
-#include "render/strip_figure.h"
 
 namespace motionfork::app {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct RenderOptions {
   std::string input;
@@ -30,42 +24,10 @@ struct RenderOptions {
   MotionInputOptions input_options;
 };
 
-enum class OutputKind { kPng, kSvg, kHtml };
-
-OutputKind OutputKindOf(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".png") return OutputKind::kPng;
-  if (ext == ".svg") return OutputKind::kSvg;
-  if (ext == ".html" || ext == ".htm") return OutputKind::kHtml;
-  throw std::invalid_argument("-o " + path +
-                              ": expected a file name ending in .png, .svg or .html, got '" +
-                              (ext.empty() ? std::string("no extension") : ext) + "'");
-}
-
-// A prediction is its .json, or a .npy with the .json of the same name beside it.
-bool IsPrediction(const std::string& path) {
-  const fs::path p(path);
-  if (p.extension() == ".json") return true;
-  return p.extension() == ".npy" && fs::exists(fs::path(p).replace_extension(".json"));
-}
-
-std::string DefaultTitle(const Prediction& p, const std::string& input) {
-  if (p.model.empty() && p.history.empty()) return fs::path(input).filename().string();
-  std::string t = fs::path(p.history).filename().string() + " from frame " +
-                  std::to_string(p.start_frame) + ", " + std::to_string(p.k) + " futures";
-  if (!p.model.empty()) t += " of " + fs::path(p.model).filename().string();
-  if (!p.fixed_parts.empty()) {
-    t += ", fixed:";
-    for (const std::string& part : p.fixed_parts) t += " " + part;
-  }
-  return t;
-}
-
 void RunRender(const RenderOptions& o, const GlobalOptions& g) {
-  const OutputKind kind = OutputKindOf(o.out);
+  const render::PictureKind kind = render::PictureKindOf(o.out);
   Prediction p;
-  if (IsPrediction(o.input)) {
+  if (IsPredictionPath(o.input)) {
     p = ReadPrediction(o.input);
   } else {
     p = render::PredictionFromMotion(
@@ -76,34 +38,11 @@ void RunRender(const RenderOptions& o, const GlobalOptions& g) {
   render::SceneOptions scene_options;
   if (!o.up.empty()) scene_options.up = render::ParseSignedAxis(o.up);
   const render::Scene scene = render::BuildScene(p, scene_options);
-  const std::string title = o.strip.title.empty() ? DefaultTitle(p, o.input) : o.strip.title;
-
-  std::string bytes;
-  std::string what;
-  if (kind == OutputKind::kHtml) {
-    render::ViewerOptions v;
-    v.samples = o.pick;
-    for (int k = 0; v.samples.empty() && o.samples > 0 && k < std::min(o.samples, p.k); ++k)
-      v.samples.push_back(k);
-    v.camera = o.strip.camera;
-    v.title = title;
-    bytes = render::RenderViewerHtml(scene, v);
-    what = std::to_string(v.samples.empty() ? p.k : static_cast<int>(v.samples.size())) +
-           " samples, " + std::to_string(p.frames()) + " frames";
-  } else {
-    render::StripOptions s = o.strip;
-    s.samples = o.pick;
-    if (o.samples > 0) s.max_samples = o.samples;
-    s.title = title;
-    const render::StripLayout layout = render::LayoutStrip(scene, s);
-    bytes = render::RenderStrip(
-        scene, s, kind == OutputKind::kPng ? render::ImageFormat::kPng : render::ImageFormat::kSvg);
-    what = std::to_string(layout.width) + " x " + std::to_string(layout.height) + " px, " +
-           std::to_string(layout.samples.size()) + " samples, a pose every " +
-           std::to_string(layout.every) + " frames";
-  }
-  WriteFileAtomically(o.out, bytes);
-  std::printf("wrote %s (%s; up axis %s)\n", o.out.c_str(), what.c_str(),
+  render::PictureOptions picture_options{o.pick, o.samples, o.strip};
+  if (o.strip.title.empty()) picture_options.strip.title = render::DefaultTitle(p, o.input);
+  const render::Picture picture = render::RenderPicture(scene, p, kind, picture_options);
+  WriteFileAtomically(o.out, picture.bytes);
+  std::printf("wrote %s (%s; up axis %s)\n", o.out.c_str(), picture.description.c_str(),
               render::ToString(scene.up).c_str());
 }
 

@@ -1,7 +1,5 @@
 #include "experiment_common.h"
 
-#include <cstdio>
-
 #include "app_common.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
@@ -24,14 +22,6 @@ Dataset LoadProtocolDataset(const std::string& protocol, const std::string& data
   Dataset ds = LoadDataset(p, skeleton, data_dir, load);
   bar.Finish();
   return ds;
-}
-
-void PrintRepairedForecasts(const ForecastingFigures& f, int width, const char* before,
-                            const char* after) {
-  for (const RepairedForecast& s : f.settings) {
-    std::printf("  %-*s %s %.3f / %.3f   %s %.3f / %.3f\n", width, s.setting.c_str(), before,
-                s.before.ade, s.before.fde, after, s.after.ade, s.after.fde);
-  }
 }
 
 }  // namespace motionfork::app

@@ -36,13 +36,8 @@ void ParseModel(const std::string& file, const YAML::Node& n, DvaeOptions* o) {
 }
 
 void EmitModel(YAML::Emitter& out, const DvaeOptions& o) {
-  out << YAML::Key << "model" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "window" << YAML::Value << o.window;
-  out << YAML::Key << "hidden" << YAML::Value << o.hidden;
-  out << YAML::Key << "latent" << YAML::Value << o.latent;
-  out << YAML::Key << "mlp_hidden" << YAML::Value << o.mlp_hidden;
-  out << YAML::Key << "groups" << YAML::Value << o.groups;
-  out << YAML::EndMap;
+  yaml_util::EmitMap(out, "model", "window", o.window, "hidden", o.hidden, "latent", o.latent,
+                     "mlp_hidden", o.mlp_hidden, "groups", o.groups);
 }
 
 void ParseNoisePrior(const std::string& file, const YAML::Node& n, DvaeNoisePrior* o) {
@@ -54,10 +49,7 @@ void ParseNoisePrior(const std::string& file, const YAML::Node& n, DvaeNoisePrio
 }
 
 void EmitNoisePrior(YAML::Emitter& out, const DvaeNoisePrior& o) {
-  out << YAML::Key << "noise_prior" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "dof" << YAML::Value << o.dof;
-  out << YAML::Key << "scale" << YAML::Value << o.scale;
-  out << YAML::EndMap;
+  yaml_util::EmitMap(out, "noise_prior", "dof", o.dof, "scale", o.scale);
 }
 
 void ParseDenoise(const std::string& file, const YAML::Node& n, DenoiseOptions* o) {
@@ -87,16 +79,9 @@ void ParseDenoise(const std::string& file, const YAML::Node& n, DenoiseOptions* 
 }
 
 void EmitDenoise(YAML::Emitter& out, const DenoiseOptions& o) {
-  out << YAML::Key << "denoise" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "mode" << YAML::Value << ToString(o.mode);
-  out << YAML::Key << "iterations" << YAML::Value << o.iterations;
-  out << YAML::Key << "learning_rate" << YAML::Value << o.learning_rate;
-  out << YAML::Key << "bone_weight" << YAML::Value << o.bone_weight;
-  out << YAML::Key << "fuse" << YAML::Value << o.fuse;
-  out << YAML::Key << "samples" << YAML::Value << o.samples;
-  out << YAML::Key << "stride" << YAML::Value << o.stride;
-  out << YAML::Key << "seed" << YAML::Value << o.seed;
-  out << YAML::EndMap;
+  yaml_util::EmitMap(out, "denoise", "mode", ToString(o.mode), "iterations", o.iterations,
+                     "learning_rate", o.learning_rate, "bone_weight", o.bone_weight, "fuse", o.fuse,
+                     "samples", o.samples, "stride", o.stride, "seed", o.seed);
 }
 
 std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Node& n) {

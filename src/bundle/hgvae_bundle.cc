@@ -68,11 +68,8 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
-  out << YAML::Key << "impute" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "steps" << YAML::Value << o.steps;
-  out << YAML::Key << "learning_rate" << YAML::Value << o.learning_rate;
-  out << YAML::Key << "objective" << YAML::Value << ToString(o.objective);
-  out << YAML::EndMap;
+  yaml_util::EmitMap(out, "impute", "steps", o.steps, "learning_rate", o.learning_rate, "objective",
+                     ToString(o.objective));
 }
 
 void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
@@ -81,23 +78,16 @@ void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {
   for (const HgvaeLevel& l : o.levels)
     out << YAML::Flow << YAML::BeginSeq << l.nodes << l.features << YAML::EndSeq;
   out << YAML::EndSeq;
-  out << YAML::Key << "width" << YAML::Value << o.width;
-  out << YAML::Key << "encoder_blocks" << YAML::Value << o.encoder_blocks;
-  out << YAML::Key << "decoder_blocks" << YAML::Value << o.decoder_blocks;
-  out << YAML::Key << "stochastic_levels" << YAML::Value << o.stochastic_levels;
-  out << YAML::Key << "window" << YAML::Value << o.window;
-  out << YAML::Key << "label_dropout" << YAML::Value << o.label_dropout;
-  out << YAML::Key << "predicted_variance" << YAML::Value << o.predicted_variance;
+  yaml_util::EmitPairs(out, "width", o.width, "encoder_blocks", o.encoder_blocks, "decoder_blocks",
+                       o.decoder_blocks, "stochastic_levels", o.stochastic_levels, "window",
+                       o.window, "label_dropout", o.label_dropout, "predicted_variance",
+                       o.predicted_variance);
   out << YAML::EndMap;
 }
 
 void EmitOod(YAML::Emitter& out, const HgvaeManifest& m) {
-  out << YAML::Key << "ood" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "score" << YAML::Value << ToString(m.ood_score);
-  out << YAML::Key << "score_mean" << YAML::Value << m.score_mean;
-  out << YAML::Key << "score_std" << YAML::Value << m.score_std;
-  out << YAML::Key << "k" << YAML::Value << m.ood_k;
-  out << YAML::EndMap;
+  yaml_util::EmitMap(out, "ood", "score", ToString(m.ood_score), "score_mean", m.score_mean,
+                     "score_std", m.score_std, "k", m.ood_k);
 }
 
 HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {

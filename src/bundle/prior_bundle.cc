@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <set>
+#include <utility>
 
 #include "bundle/bundle_files.h"
 #include "bundle/manifest.h"
@@ -68,6 +70,13 @@ std::string Quote(const std::string& s) {
     out += c;
   }
   return out + "\"";
+}
+
+// The lines `  key: value` of a mapping one level in, in the order given.
+std::string Entries(std::initializer_list<std::pair<const char*, std::string>> entries) {
+  std::string s;
+  for (const auto& [key, value] : entries) s += std::string("  ") + key + ": " + value + "\n";
+  return s;
 }
 
 std::string NumList(const std::vector<double>& v) {
@@ -210,20 +219,20 @@ std::string FormatPriorManifest(const PriorManifest& m) {
   s += FormatFlowConfig(m.config);
   const PriorTrainingSummary& y = m.summary;
   s += "summary:  # NLL in nats per pose (48-D density for 17 joints); lower = more likely\n";
-  s += "  protocol: " + Quote(y.protocol) + "\n";
-  s += "  fps: " + FlowNumberText(y.fps) + "\n";
-  s += "  train_frames: " + std::to_string(y.train_frames) + "\n";
-  s += "  held_out_frames: " + std::to_string(y.held_out_frames) + "\n";
-  s += "  test_frames: " + std::to_string(y.test_frames) + "\n";
-  s += "  epochs_completed: " + std::to_string(y.epochs_completed) + "\n";
-  s += "  train_nll: " + NumList(y.train_nll) + "\n";
-  s += "  held_out_nll: " + NumList(y.held_out_nll) + "\n";
-  s += "  test_nll: " + FlowNumberText(y.test_nll) + "\n";
-  s += "  held_out_nll_q50: " + FlowNumberText(y.held_out_nll_q50) + "\n";
-  s += "  held_out_nll_q90: " + FlowNumberText(y.held_out_nll_q90) + "\n";
-  s += "  held_out_nll_q99: " + FlowNumberText(y.held_out_nll_q99) + "\n";
-  s += "  seconds: " + FlowNumberText(y.seconds) + "\n";
-  s += "  threads: " + std::to_string(y.threads) + "\n";
+  s += Entries({{"protocol", Quote(y.protocol)},
+                {"fps", FlowNumberText(y.fps)},
+                {"train_frames", std::to_string(y.train_frames)},
+                {"held_out_frames", std::to_string(y.held_out_frames)},
+                {"test_frames", std::to_string(y.test_frames)},
+                {"epochs_completed", std::to_string(y.epochs_completed)},
+                {"train_nll", NumList(y.train_nll)},
+                {"held_out_nll", NumList(y.held_out_nll)},
+                {"test_nll", FlowNumberText(y.test_nll)},
+                {"held_out_nll_q50", FlowNumberText(y.held_out_nll_q50)},
+                {"held_out_nll_q90", FlowNumberText(y.held_out_nll_q90)},
+                {"held_out_nll_q99", FlowNumberText(y.held_out_nll_q99)},
+                {"seconds", FlowNumberText(y.seconds)},
+                {"threads", std::to_string(y.threads)}});
   s += "weights:\n";
   s += "  file: " + Quote(m.weights_file) + "\n";
   s += "  checksum: " + Quote(m.weights_checksum) + "\n";

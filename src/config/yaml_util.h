@@ -113,6 +113,22 @@ inline YAML::Node Section(const std::string& file, const YAML::Node& root, const
   return n;
 }
 
+// Emits the pairs (key, value, key, value, ...) into the map being written.
+inline void EmitPairs(YAML::Emitter&) {}
+template <typename Value, typename... Rest>
+void EmitPairs(YAML::Emitter& out, const char* key, const Value& value, const Rest&... rest) {
+  out << YAML::Key << key << YAML::Value << value;
+  EmitPairs(out, rest...);
+}
+
+// Emits `key:` with a block mapping of the pairs (key, value, ...), in the order given.
+template <typename... Pairs>
+void EmitMap(YAML::Emitter& out, const char* key, const Pairs&... pairs) {
+  out << YAML::Key << key << YAML::Value << YAML::BeginMap;
+  EmitPairs(out, pairs...);
+  out << YAML::EndMap;
+}
+
 // Runs f, turning std::invalid_argument and YAML exceptions into FormatErrors naming file.
 template <typename F>
 auto WithFormatErrors(const std::string& file, F&& f) -> decltype(f()) {

@@ -9,10 +9,20 @@
 #include "denoise/dvae_net.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
+#include "torch_util/parameters.h"
 
 namespace motionfork {
 
 struct DvaeModel::Impl {
+  // The decoder is frozen: optimisation mode fits only the encoder's output (dvae_model.h).
+  Impl(DvaeManifest m, DvaeNet n)
+      : manifest(std::move(m)),
+        net(std::move(n)),
+        norm(std::make_unique<DvaeTensors>(manifest)),
+        skeleton(std::make_shared<const Skeleton>(Skeleton::Build(manifest.skeleton))) {
+    for (torch::Tensor& p : net->DecoderParameters()) p.set_requires_grad(false);
+  }
+
   DvaeManifest manifest;
   DvaeNet net{nullptr};
   std::unique_ptr<DvaeTensors> norm;
@@ -20,27 +30,17 @@ struct DvaeModel::Impl {
   std::mutex mutex;  // optimisation mode changes the encoder's weights for a while
 };
 
-DvaeModel DvaeModel::FromNet(DvaeManifest manifest, DvaeNet net) {
-  DvaeModel model;
-  model.impl_ = std::make_shared<Impl>();
-  Impl& i = *model.impl_;
-  i.manifest = std::move(manifest);
-  i.net = std::move(net);
-  for (torch::Tensor& p : i.net->DecoderParameters()) p.set_requires_grad(false);
-  i.norm = std::make_unique<DvaeTensors>(i.manifest);
-  i.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(i.manifest.skeleton));
-  return model;
-}
-
 const DvaeManifest& DvaeModel::manifest() const { return impl_->manifest; }
 const Skeleton& DvaeModel::skeleton() const { return *impl_->skeleton; }
 int DvaeModel::window() const { return impl_->manifest.model.window; }
 int DvaeModel::joints() const { return impl_->skeleton->num_joints(); }
 
-int64_t DvaeModel::num_parameters() const {
-  int64_t n = 0;
-  for (const torch::Tensor& p : impl_->net->parameters()) n += p.numel();
-  return n;
+int64_t DvaeModel::num_parameters() const { return CountParameters(*impl_->net); }
+
+DvaeModel DvaeModel::FromNet(DvaeManifest manifest, DvaeNet net) {
+  DvaeModel model;
+  model.impl_ = std::make_shared<Impl>(std::move(manifest), std::move(net));
+  return model;
 }
 
 namespace {

@@ -7,6 +7,7 @@
 
 #include "imputation/hgvae_net.h"
 #include "imputation/hgvae_tensors.h"
+#include "torch_util/parameters.h"
 
 namespace motionfork {
 
@@ -15,6 +16,16 @@ constexpr int64_t kChunk = 256;  // windows per pass
 }  // namespace
 
 struct HgvaeModel::Impl {
+  // Inference only: no parameter needs a gradient.
+  Impl(HgvaeManifest m, HgvaeNet n)
+      : manifest(std::move(m)),
+        skeleton(std::make_shared<const Skeleton>(Skeleton::Build(manifest.skeleton))),
+        net(std::move(n)),
+        tensors(std::make_unique<HgvaeTensors>(manifest)) {
+    for (auto& p : net->parameters()) p.set_requires_grad(false);
+    for (double s : manifest.std) log_det += T() * std::log(s);
+  }
+
   HgvaeManifest manifest;
   std::shared_ptr<const Skeleton> skeleton;
   mutable HgvaeNet net{nullptr};
@@ -54,14 +65,7 @@ struct HgvaeModel::Impl {
 
 HgvaeModel HgvaeModel::FromNet(HgvaeManifest manifest, HgvaeNet net) {
   HgvaeModel m;
-  m.impl_ = std::make_shared<Impl>();
-  Impl& impl = *m.impl_;
-  impl.manifest = std::move(manifest);
-  impl.net = std::move(net);
-  for (auto& p : impl.net->parameters()) p.set_requires_grad(false);
-  impl.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl.manifest.skeleton));
-  impl.tensors = std::make_unique<HgvaeTensors>(impl.manifest);
-  for (double s : impl.manifest.std) impl.log_det += impl.T() * std::log(s);
+  m.impl_ = std::make_shared<Impl>(std::move(manifest), std::move(net));
   return m;
 }
 
@@ -69,11 +73,7 @@ const HgvaeManifest& HgvaeModel::manifest() const { return impl_->manifest; }
 const Skeleton& HgvaeModel::skeleton() const { return *impl_->skeleton; }
 int HgvaeModel::window() const { return static_cast<int>(impl_->T()); }
 int HgvaeModel::coords() const { return static_cast<int>(impl_->N()); }
-int64_t HgvaeModel::num_parameters() const {
-  int64_t n = 0;
-  for (const auto& p : impl_->net->parameters()) n += p.numel();
-  return n;
-}
+int64_t HgvaeModel::num_parameters() const { return CountParameters(*impl_->net); }
 
 int HgvaeModel::ClassIndex(const std::string& name) const {
   if (name.empty()) return -1;

@@ -218,4 +218,11 @@ Prediction ReadPrediction(const std::string& path) {
   return p;
 }
 
+bool IsPredictionPath(const std::string& path) {
+  const std::filesystem::path p(path);
+  if (p.extension() == ".json") return true;
+  return p.extension() == ".npy" &&
+         std::filesystem::exists(std::filesystem::path(p).replace_extension(".json"));
+}
+
 }  // namespace motionfork

@@ -74,4 +74,8 @@ std::string WritePrediction(const std::string& out, const Prediction& p);
 // FormatError naming the file and the key or shape that is wrong.
 Prediction ReadPrediction(const std::string& path);
 
+// Whether `path` names a prediction: its .json, or a .npy with the .json of the same name beside it
+// (a lone .npy is a motion).
+bool IsPredictionPath(const std::string& path);
+
 }  // namespace motionfork

@@ -3,13 +3,18 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "io/json_members.h"
+
 namespace motionfork::pipeline {
 
 using json = nlohmann::ordered_json;
 
 json PriorScoreJson(const std::string& file, const std::string& model, const PosePrior& prior,
                     const Motion& motion, const PriorScore& s) {
-  const bool known = std::isfinite(s.held_out_q99);
+  json summary;
+  MOTIONFORK_JSON_MEMBERS(summary, s, mean, median, min, best_frame, max, worst_frame, held_out_q50,
+                          held_out_q99);
+  summary["frames_above_held_out_q99"] = std::isfinite(s.held_out_q99) ? json(s.above_q99) : json();
   return {{"file", file},
           {"model", model},
           {"skeleton", prior.skeleton().name()},
@@ -17,16 +22,7 @@ json PriorScoreJson(const std::string& file, const std::string& model, const Pos
           {"fps", motion.fps()},
           {"unit", "nats per pose"},
           {"nll", s.nll},
-          {"summary",
-           {{"mean", s.mean},
-            {"median", s.median},
-            {"min", s.min},
-            {"best_frame", s.best_frame},
-            {"max", s.max},
-            {"worst_frame", s.worst_frame},
-            {"held_out_q50", s.held_out_q50},
-            {"held_out_q99", s.held_out_q99},
-            {"frames_above_held_out_q99", known ? json(s.above_q99) : json()}}}};
+          {"summary", summary}};
 }
 
 }  // namespace motionfork::pipeline

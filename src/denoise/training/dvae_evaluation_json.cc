@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "eval/history_forecasting_json.h"
+#include "io/json_members.h"
 
 namespace motionfork {
 
@@ -14,15 +15,10 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DenoisingRow, noise, noisy_cm, smooth_cm, den
 
 nlohmann::ordered_json DvaeEvaluationJson(const DvaeEvaluation& e, const std::string& model_path) {
   using json = nlohmann::ordered_json;
-  json j = {{"model", model_path},
-            {"clips", e.clips},
-            {"frames", e.frames},
-            {"clean_accel", e.clean_accel},
-            {"samples", e.samples},
-            {"iterations", e.iterations},
-            {"optimisation_clips", e.optimisation_clips},
-            {"regression_frames_per_s", e.regression_frames_per_s},
-            {"settings", json(nlohmann::json(e.settings))}};
+  json j = {{"model", model_path}};
+  MOTIONFORK_JSON_MEMBERS(j, e, clips, frames, clean_accel, samples, iterations, optimisation_clips,
+                          regression_frames_per_s);
+  j["settings"] = json(nlohmann::json(e.settings));
   if (e.optimisation_clips > 0) j["optimisation_frames_per_s"] = e.optimisation_frames_per_s;
   if (e.forecasting) {
     j["forecasting"] = ForecastingJson(*e.forecasting, "noise", "noisy", "denoised");

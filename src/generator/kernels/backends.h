@@ -10,20 +10,24 @@
 
 namespace motionfork::kernels {
 
+// The entry points' types: each backend declares its functions with these, so the backends
+// cannot drift apart (their definitions spell the same parameters out).
+using MatMulFn = void(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float* z);
+using MixRowsFn = void(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width,
+                       const float* shared, const int64_t* nodes, int64_t count,
+                       const float* residual, float* out, int64_t ld);
+using TanhFn = void(float* x, int64_t n);
+
 namespace portable {
-void MatMul(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float* z);
-void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width,
-             const float* shared, const int64_t* nodes, int64_t count, const float* residual,
-             float* out, int64_t ld);
-void Tanh(float* x, int64_t n);
+MatMulFn MatMul;
+MixRowsFn MixRows;
+TanhFn Tanh;
 }  // namespace portable
 
 namespace avx512 {
-void MatMul(const float* x, int64_t m, int64_t ldx, const PackedWeight& w, float* z);
-void MixRows(const LayerEpilogue& e, const float* z, int64_t padded, int64_t width,
-             const float* shared, const int64_t* nodes, int64_t count, const float* residual,
-             float* out, int64_t ld);
-void Tanh(float* x, int64_t n);
+MatMulFn MatMul;
+MixRowsFn MixRows;
+TanhFn Tanh;
 }  // namespace avx512
 
 }  // namespace motionfork::kernels

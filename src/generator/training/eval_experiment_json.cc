@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "io/json_members.h"
+
 namespace motionfork {
 namespace {
 
@@ -11,13 +13,9 @@ using json = nlohmann::ordered_json;
 
 // The figures of one group, with its window count.
 json FiguresJson(const Figures& f, bool fixed, const std::vector<std::string>& scorers) {
-  json j = {{"windows", f.windows},
-            {"apd", f.apd},
-            {"ade", f.ade},
-            {"fde", f.fde},
-            {"mmade", f.mmade},
-            {"mmfde", f.mmfde},
-            {"mean_multimodal_set_size", f.mean_set_size}};
+  json j;
+  MOTIONFORK_JSON_MEMBERS(j, f, windows, apd, ade, fde, mmade, mmfde);
+  j["mean_multimodal_set_size"] = f.mean_set_size;
   if (fixed) j.update({{"apd_varied", f.apd_varied}, {"apd_fixed", f.apd_fixed}});
   for (size_t s = 0; s < scorers.size() && s < f.predicted_scores.size(); ++s) {
     j[scorers[s]] = f.predicted_scores[s];

@@ -1,0 +1,67 @@
+#include "denoise/training/dvae_evaluation_text.h"
+
+#include <cmath>
+
+#include "core/text_format.h"
+#include "eval/history_forecasting_text.h"
+
+namespace motionfork {
+namespace {
+
+// The value in `format`, or "-" where it was not measured (NaN).
+std::string Number(double v, const char* format) {
+  return std::isfinite(v) ? StringPrintf(format, v) : std::string("-");
+}
+
+}  // namespace
+
+std::string DvaeEvaluationHeaderText(const DvaeEvaluation& e, const DvaeModel& model,
+                                     const std::string& model_path) {
+  std::string s = StringPrintf(
+      "Motion-DVAE %s (%s parameters%s), %d test clips (%s frames, style '%s' unseen in "
+      "training);\n"
+      "clean acceleration %.2f m/s^2; %d posterior draws; optimisation mode on the first %d "
+      "clips (%s frames), %d iterations\n",
+      model_path.c_str(), WithThousands(model.num_parameters()).c_str(),
+      model.manifest().finetuned ? ", fine-tuned on noisy data" : ", prior only", e.clips,
+      WithThousands(e.frames).c_str(), e.test_style.c_str(), e.clean_accel, e.samples,
+      e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations);
+  StringAppendf(
+      &s, "\n%-18s %9s %9s %8s %9s %9s %8s   accel / clean: noisy  smooth  denoised  optimised\n",
+      "noise (cm error)", "noisy", "smooth", "denoised", "removed", "optimised", "removed");
+  return s;
+}
+
+std::string DenoisingRowText(const DenoisingRow& r) {
+  return StringPrintf(
+      "%-18s %9.2f %9.2f %8.2f %9s %9s %8s   %19.2f %7.2f %9.2f %10s\n", r.noise.c_str(),
+      r.noisy_cm, r.smooth_cm, r.denoised_cm, Number(100 * r.removed, "%.1f%%").c_str(),
+      Number(r.optimised_cm, "%.2f").c_str(), Number(100 * r.removed_optimised, "%.1f%%").c_str(),
+      r.accel_ratio_noisy, r.accel_ratio_smooth, r.accel_ratio_denoised,
+      Number(r.accel_ratio_optimised, "%.2f").c_str());
+}
+
+std::string DvaeEvaluationFooterText(const DvaeEvaluation& e, const DvaeEvalOptions& options,
+                                     int threads) {
+  std::string s = StringPrintf(
+      "(smooth: Gaussian over time, sigma %.3g frames, a baseline; optimised: on the first %d "
+      "clips, against\n"
+      "their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
+      options.smooth_sigma, e.optimisation_clips, threads, e.regression_frames_per_s);
+  if (e.optimisation_clips > 0) {
+    StringAppendf(&s, ", optimisation %.0f frames/s (%d iterations per sequence)",
+                  e.optimisation_frames_per_s, e.iterations);
+  }
+  s += "\n";
+  if (e.forecasting) {
+    const ForecastingFigures& f = *e.forecasting;
+    StringAppendf(&s,
+                  "\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE, "
+                  "clean history %.3f / %.3f\n",
+                  f.forecaster.c_str(), f.k, f.windows, f.clean.ade, f.clean.fde);
+    s += RepairedForecastsText(f, 18, "noisy", "denoised");
+  }
+  return s;
+}
+
+}  // namespace motionfork

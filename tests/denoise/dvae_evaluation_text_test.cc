@@ -1,0 +1,55 @@
+#include "denoise/training/dvae_evaluation_text.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <string>
+
+namespace motionfork {
+
+TEST_CASE("evaluation text: a row shows '-' where optimisation mode did not run") {
+  DenoisingRow r;
+  r.noise = "gaussian:0.02";
+  r.noisy_cm = 3.5;
+  r.smooth_cm = 2.25;
+  r.denoised_cm = 1.5;
+  r.removed = 0.5714;
+  r.optimised_cm = std::nan("");
+  r.removed_optimised = std::nan("");
+  r.accel_ratio_noisy = 10;
+  r.accel_ratio_smooth = 2;
+  r.accel_ratio_denoised = 1.25;
+  r.accel_ratio_optimised = std::nan("");
+  const std::string row = DenoisingRowText(r);
+  CHECK(row.rfind("gaussian:0.02", 0) == 0);
+  CHECK(row.find("3.50") != std::string::npos);
+  CHECK(row.find("57.1%") != std::string::npos);
+  CHECK(row.find(" - ") != std::string::npos);
+  CHECK(row.back() == '\n');
+  CHECK(row.find("nan") == std::string::npos);
+  r.optimised_cm = 1.0;
+  r.removed_optimised = 0.7143;
+  r.accel_ratio_optimised = 1.1;
+  const std::string full = DenoisingRowText(r);
+  CHECK(full.find("71.4%") != std::string::npos);
+  CHECK(full.find(" - ") == std::string::npos);
+}
+
+TEST_CASE("evaluation text: the footer gives the speed and, when measured, forecasting") {
+  DvaeEvaluation e;
+  e.regression_frames_per_s = 12345.6;
+  DvaeEvalOptions options;
+  std::string s = DvaeEvaluationFooterText(e, options, 2);
+  CHECK(s.find("speed on 2 thread(s): regression 12346 frames/s\n") != std::string::npos);
+  CHECK(s.find("optimised: on the first 0 clips") != std::string::npos);
+  CHECK(s.find("forecasting") == std::string::npos);
+  e.optimisation_clips = 3;
+  e.optimisation_frames_per_s = 50;
+  e.iterations = 7;
+  e.forecasting = ForecastingFigures{};
+  e.forecasting->forecaster = "zero-velocity";
+  s = DvaeEvaluationFooterText(e, options, 1);
+  CHECK(s.find(", optimisation 50 frames/s (7 iterations per sequence)") != std::string::npos);
+  CHECK(s.find("forecasting (zero-velocity") != std::string::npos);
+}
+
+}  // namespace motionfork
