@@ -24,7 +24,8 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
 void AddExportCommand(CLI::App& app, GlobalOptions& global);
 void AddRenderCommand(CLI::App& app, GlobalOptions& global);
 void AddSynthCommand(CLI::App& app, GlobalOptions& global);
-void AddHgvaeCommand(CLI::App& app, GlobalOptions& global);  // hgvae train (cmd_hgvae.cc)
+void AddBundleCommand(CLI::App& app, GlobalOptions& global);  // bundle upgrade
+void AddHgvaeCommand(CLI::App& app, GlobalOptions& global);   // hgvae train (cmd_hgvae.cc)
 // HG-VAE models in use (cmd_impute.cc): hgvae sample, hgvae eval, impute, ood.
 void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global);
 void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global);

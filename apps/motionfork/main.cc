@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
        {AddInfoCommand, AddConvertCommand, AddDatasetCommand, AddEvalCommand, AddTrainCommand,
         AddPredictCommand, AddPriorCommand, AddCheckCommand, AddConstraintsCommand,
         AddExportCommand, AddRenderCommand, AddSynthCommand, AddHgvaeCommand, AddImputeCommand,
-        AddOodCommand, AddDvaeCommand, AddDenoiseCommand}) {
+        AddOodCommand, AddDvaeCommand, AddDenoiseCommand, AddBundleCommand}) {
     add(app, global);
   }
   try {

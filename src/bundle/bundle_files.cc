@@ -84,6 +84,16 @@ void RequireBundleFiles(const std::string& dir, const std::string& kind,
   }
 }
 
+void RequireChecksum(const std::string& dir, const std::string& name,
+                     const BundleChecksums& checksums, const std::string& manifest_name) {
+  if (checksums.count(name)) return;
+  Fail((fs::path(dir) / manifest_name).string(),
+       "records no checksum of " + name +
+           " (a bundle written before motionfork verified bundles); rewrite it with "
+           "'motionfork bundle upgrade " +
+           dir + "'");
+}
+
 std::string ReadBundleFile(const std::string& dir, const std::string& name,
                            const BundleChecksums& checksums, const std::string& manifest_name) {
   const std::string path = (fs::path(dir) / name).string();

@@ -5,7 +5,8 @@
 //     hgvae.pt: fnv1a64:0123456789abcdef
 //
 // (FNV-1a 64, the checksum the pose prior's bundles have always carried as weights_checksum.)
-// Bundles written before checksums existed record none: their files load unchecked.
+// Bundles written before checksums existed record none: the LibTorch bundles refuse them
+// (RequireChecksum; `motionfork bundle upgrade` rewrites them), the others load them unchecked.
 #pragma once
 
 #include <functional>
@@ -39,6 +40,11 @@ void WriteBundle(const std::string& dir, const std::vector<BundleFile>& files,
 // "<file>: missing from the <kind> bundle (expected a and b)".
 void RequireBundleFiles(const std::string& dir, const std::string& kind,
                         const std::vector<std::string>& names);
+
+// Checks that the manifest `manifest_name` of dir records a checksum of `name`: FormatError naming
+// the manifest and saying how to rewrite a bundle written before checksums existed.
+void RequireChecksum(const std::string& dir, const std::string& name,
+                     const BundleChecksums& checksums, const std::string& manifest_name);
 
 // Reads dir/name and, when `checksums` records it, checks its checksum: a mismatch is a FormatError
 // naming the file, both checksums and the manifest.

@@ -187,13 +187,22 @@ std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& che
       });
 }
 
-void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net) {
-  SaveTorchBundle(dir, "dvae.yaml", "dvae.pt", m, net, FormatDvaeManifest);
+constexpr TorchBundleNames kDvaeFiles{"Motion-DVAE", "dvae.yaml", "dvae.pt"};
+
+// What dvae.pt must have been saved with: the manifest but its denoising defaults and provenance.
+std::string DvaeSignature(const DvaeManifest& m) {
+  DvaeManifest s = m;
+  s.denoise = DenoiseOptions{};
+  s.info.clear();
+  return FormatDvaeManifest(s);
 }
 
-DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m) {
-  return LoadTorchBundle(dir, "Motion-DVAE", "dvae.yaml", "dvae.pt", m, LoadDvaeManifest,
-                         BuildDvaeNet);
+void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net) {
+  SaveTorchBundle(dir, kDvaeFiles, m, net, FormatDvaeManifest, DvaeSignature);
+}
+
+DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m, BundleCheck check) {
+  return LoadTorchBundle(dir, kDvaeFiles, m, LoadDvaeManifest, BuildDvaeNet, DvaeSignature, check);
 }
 
 DvaeModel LoadDvaeModel(const std::string& dir) {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bundle/bundle_files.h"
+#include "bundle/torch_bundle.h"
 #include "core/skeleton.h"
 #include "dataset/protocol_options.h"
 #include "denoise/dvae_model.h"
@@ -24,9 +25,10 @@ std::string FormatDvaeManifest(const DvaeManifest& manifest, const BundleChecksu
 
 // Both files written all-or-nothing (bundle/bundle_files.h), dvae.pt's checksum in dvae.yaml.
 void SaveDvaeBundle(const std::string& dir, const DvaeManifest& m, DvaeNet& net);
-// Throws FormatError naming the missing or malformed file (or one whose checksum does not match).
-// The net is in eval mode.
-DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m);
+// Verified as bundle/torch_bundle.h says; throws FormatError naming the missing, malformed or
+// mismatching file. The net is in eval mode.
+DvaeNet LoadDvaeBundle(const std::string& dir, DvaeManifest* m,
+                       BundleCheck check = BundleCheck::kStrict);
 // Reads DIR/dvae.yaml and DIR/dvae.pt (was DvaeModel::Load).
 DvaeModel LoadDvaeModel(const std::string& dir);
 

@@ -186,32 +186,48 @@ std::string FormatGeneratorManifest(const ModelConfig& c, const BundleChecksums&
   return std::string(out.c_str()) + "\n";
 }
 
-void SaveGeneratorBundle(const std::string& dir, const ModelConfig& config, GeneratorNet& net) {
-  SaveTorchBundle(dir, "model.yaml", "generator.pt", config, net, FormatGeneratorManifest);
+namespace {
+
+constexpr TorchBundleNames kGeneratorFiles{"model", "model.yaml", "generator.pt"};
+
+// What generator.pt must have been saved with: the manifest but its provenance.
+std::string GeneratorSignature(const ModelConfig& c) {
+  ModelConfig s = c;
+  s.info.clear();
+  return FormatGeneratorManifest(s);
 }
 
-GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config) {
-  const std::string yaml = (fs::path(dir) / "model.yaml").string();
+GeneratorNet BuildGeneratorNet(const std::string& yaml, const ModelConfig& m) {
+  std::optional<Skeleton> built;
+  try {
+    built = Skeleton::Build(m.skeleton);
+  } catch (const std::invalid_argument& e) {
+    throw FormatError(FormatMessage(yaml, "", e.what()));
+  }
+  const Skeleton& skeleton = *built;
+  if (skeleton.num_joints() - 1 != m.generator.num_nodes) {
+    throw FormatError(
+        FormatMessage(yaml, "",
+                      "generator.num_nodes = " + std::to_string(m.generator.num_nodes) +
+                          " does not match the skeleton's " +
+                          std::to_string(skeleton.num_joints() - 1) + " non-root joints"));
+  }
+  const PartPlan plan = MakePartPlan(skeleton, m.generator.partition);
+  return GeneratorNet(m.generator, plan.nodes);
+}
+
+}  // namespace
+
+void SaveGeneratorBundle(const std::string& dir, const ModelConfig& config, GeneratorNet& net) {
+  SaveTorchBundle(dir, kGeneratorFiles, config, net, FormatGeneratorManifest, GeneratorSignature);
+}
+
+GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config, BundleCheck check) {
+  const std::string yaml = (fs::path(dir) / kGeneratorFiles.manifest).string();
   return LoadTorchBundle(
-      dir, "model", "model.yaml", "generator.pt", config, LoadGeneratorManifest,
-      [&yaml](const ModelConfig& m) {
-        std::optional<Skeleton> built;
-        try {
-          built = Skeleton::Build(m.skeleton);
-        } catch (const std::invalid_argument& e) {
-          throw FormatError(FormatMessage(yaml, "", e.what()));
-        }
-        const Skeleton& skeleton = *built;
-        if (skeleton.num_joints() - 1 != m.generator.num_nodes) {
-          throw FormatError(
-              FormatMessage(yaml, "",
-                            "generator.num_nodes = " + std::to_string(m.generator.num_nodes) +
-                                " does not match the skeleton's " +
-                                std::to_string(skeleton.num_joints() - 1) + " non-root joints"));
-        }
-        const PartPlan plan = MakePartPlan(skeleton, m.generator.partition);
-        return GeneratorNet(m.generator, plan.nodes);
-      });
+      dir, kGeneratorFiles, config, LoadGeneratorManifest,
+      [&yaml](const ModelConfig& m) { return BuildGeneratorNet(yaml, m); }, GeneratorSignature,
+      check);
 }
 
 Forecaster LoadForecaster(const std::string& dir) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bundle/generator_bundle.h"
+#include "bundle/torch_bundle.h"
 #include "generator/model/generator_net.h"
 
 namespace motionfork {
@@ -14,7 +15,9 @@ namespace motionfork {
 void SaveGeneratorBundle(const std::string& dir, const ModelConfig& config, GeneratorNet& net);
 
 // Builds the network described by DIR/model.yaml and loads DIR/generator.pt into it (eval mode).
-// Throws FormatError naming the missing or malformed file (or one whose checksum does not match).
-GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config);
+// Verified as bundle/torch_bundle.h says; throws FormatError naming the missing, malformed or
+// mismatching file.
+GeneratorNet LoadGeneratorBundle(const std::string& dir, ModelConfig* config,
+                                 BundleCheck check = BundleCheck::kStrict);
 
 }  // namespace motionfork

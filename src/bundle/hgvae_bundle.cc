@@ -173,13 +173,29 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
                         });
 }
 
-void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net) {
-  SaveTorchBundle(dir, "hgvae.yaml", "hgvae.pt", m, net, FormatHgvaeManifest);
+constexpr TorchBundleNames kHgvaeFiles{"HG-VAE", "hgvae.yaml", "hgvae.pt"};
+
+// What hgvae.pt must have been saved with: the manifest but its settings (imputation defaults, the
+// out-of-distribution rule and statistics, rewritten after evaluation) and provenance.
+std::string HgvaeSignature(const HgvaeManifest& m) {
+  HgvaeManifest s = m;
+  const HgvaeManifest defaults;
+  s.impute = defaults.impute;
+  s.ood_score = defaults.ood_score;
+  s.ood_k = defaults.ood_k;
+  s.score_mean = defaults.score_mean;
+  s.score_std = defaults.score_std;
+  s.info.clear();
+  return FormatHgvaeManifest(s);
 }
 
-HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m) {
-  return LoadTorchBundle(dir, "HG-VAE", "hgvae.yaml", "hgvae.pt", m, LoadHgvaeManifest,
-                         BuildHgvaeNet);
+void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net) {
+  SaveTorchBundle(dir, kHgvaeFiles, m, net, FormatHgvaeManifest, HgvaeSignature);
+}
+
+HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m, BundleCheck check) {
+  return LoadTorchBundle(dir, kHgvaeFiles, m, LoadHgvaeManifest, BuildHgvaeNet, HgvaeSignature,
+                         check);
 }
 
 HgvaeModel LoadHgvaeModel(const std::string& dir) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bundle/bundle_files.h"
+#include "bundle/torch_bundle.h"
 #include "core/skeleton.h"
 #include "dataset/protocol_options.h"
 #include "imputation/hgvae_model.h"
@@ -27,9 +28,10 @@ std::string FormatHgvaeManifest(const HgvaeManifest& manifest,
 
 // Both files written all-or-nothing (bundle/bundle_files.h), hgvae.pt's checksum in hgvae.yaml.
 void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net);
-// Throws FormatError naming the missing or malformed file (or one whose checksum does not match).
-// The net is in eval mode.
-HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m);
+// Verified as bundle/torch_bundle.h says; throws FormatError naming the missing, malformed or
+// mismatching file. The net is in eval mode.
+HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m,
+                         BundleCheck check = BundleCheck::kStrict);
 // Reads DIR/hgvae.yaml and DIR/hgvae.pt (was HgvaeModel::Load).
 HgvaeModel LoadHgvaeModel(const std::string& dir);
 // Rewrites DIR/hgvae.yaml with m, keeping the recorded checksums.

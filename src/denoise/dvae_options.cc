@@ -13,8 +13,11 @@ DenoiseMode ParseDenoiseMode(const std::string& text) {
 
 void ValidateDvaeOptions(const DvaeOptions& o) {
   auto fail = [](const std::string& m) { throw std::invalid_argument("dvae model: " + m); };
-  if (o.window < 3) fail("window: expected >= 3 frames, got " + std::to_string(o.window));
-  if (o.hidden < 1 || o.latent < 1) fail("hidden and latent: expected >= 1");
+  if (o.window < 3 || o.window > 4096)
+    fail("window: expected 3..4096 frames, got " + std::to_string(o.window));
+  if (o.hidden < 1 || o.latent < 1 || o.hidden > 4096 || o.latent > 4096)
+    fail("hidden and latent: expected 1..4096");
+  if (o.mlp_hidden > 65536) fail("mlp_hidden: expected <= 65536");
   if (o.groups < 1 || o.mlp_hidden < o.groups || o.mlp_hidden % o.groups != 0) {
     fail("mlp_hidden (" + std::to_string(o.mlp_hidden) +
          ") must be a positive multiple of groups (" + std::to_string(o.groups) + ")");

@@ -63,8 +63,10 @@ inline void ValidatePriorConfig(const PriorConfig& c) {
   };
   const FlowOptions& m = c.model;
   const PriorTrainOptions& t = c.training;
-  if (m.num_layers < 1) bad("model.layers", m.num_layers, "must be >= 1");
-  if (m.num_reflections < 0) bad("model.reflections", m.num_reflections, "must be >= 0 (0 = dim)");
+  if (m.num_layers < 1 || m.num_layers > 64) bad("model.layers", m.num_layers, "must be in 1..64");
+  if (m.num_reflections < 0 || m.num_reflections > 4096) {
+    bad("model.reflections", m.num_reflections, "must be in 0..4096 (0 = dim)");
+  }
   if (!(m.prelu_init > 0) || !std::isfinite(m.prelu_init)) {
     bad("model.prelu_init", m.prelu_init, "must be > 0 (a PReLU slope <= 0 is not invertible)");
   }

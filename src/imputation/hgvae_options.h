@@ -105,6 +105,10 @@ struct HgvaeManifest {
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 
+// The widest level or block (features, width) a bundle may declare (ValidateHgvaeOptions); also
+// at most 16 levels, 100 blocks each way and windows of 4096 frames.
+constexpr int kMaxHgvaeWidth = 4096;
+
 // Throws std::invalid_argument naming the field and the rule it broke. num_coords: nodes of the
 // full graph (0 = not known yet: levels may still say 0).
 void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords);

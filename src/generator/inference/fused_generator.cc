@@ -128,12 +128,32 @@ struct FusedGenerator::Model {
                Work& w) const;
 };
 
+namespace {
+
+// The fused path sizes its buffers from the network's own tensors: a layer of another size than
+// the first one's (a network whose weights disagree with its options) is refused, not run.
+void RequireShape(const torch::Tensor& t, const std::vector<int64_t>& expected, const char* what) {
+  if (t.sizes().vec() == expected) return;
+  std::string e, f;
+  for (int64_t v : expected) e += (e.empty() ? "" : ", ") + std::to_string(v);
+  for (int64_t v : t.sizes()) f += (f.empty() ? "" : ", ") + std::to_string(v);
+  throw std::invalid_argument(std::string("fused generator: ") + what + " has shape [" + f +
+                              "], expected [" + e + "]");
+}
+
+void RequireLayer(const GraphConvImpl& conv, int64_t N, int64_t in, int64_t out, const char* what) {
+  RequireShape(conv.adjacency, {N, N}, what);
+  RequireShape(conv.weight, {in, out}, what);
+}
+
+}  // namespace
+
 FusedGenerator::FusedGenerator(const GeneratorNetImpl& net) : model_(std::make_unique<Model>()) {
   Model& m = *model_;
   const GeneratorOptions& o = net.options();
   m.N = o.num_nodes;
   m.C = o.coeff_features();
-  m.H = o.hidden;
+  m.H = net.num_parts() > 0 ? net.part(0)->input->conv->weight.size(1) : o.hidden;
   m.nz = o.nz;
   m.n_pre = o.n_pre;
   m.t_his = o.t_his;
@@ -152,14 +172,18 @@ FusedGenerator::FusedGenerator(const GeneratorNetImpl& net) : model_(std::make_u
   for (int64_t p = 0; p < net.num_parts(); ++p) {
     const PartNetworkImpl& pn = *net.part(p);
     Model::Part part;
+    RequireShape(pn.input->conv->adjacency, {m.N, m.N}, "an input layer's adjacency");
+    RequireShape(pn.input->conv->weight, {pn.input->conv->weight.size(0), m.H}, "an input layer");
     part.input = MakeLayer(*pn.input->conv, pn.input->norm ? pn.input->norm.get() : nullptr, true);
     for (const auto& module : *pn.blocks) {
       const auto* block = module->as<ResidualBlockImpl>();
       for (const GraphLayer& layer : {block->first, block->second}) {
+        RequireLayer(*layer->conv, m.N, m.H, m.H, "a hidden layer");
         part.hidden.push_back(
             MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr, true));
       }
     }
+    RequireLayer(*pn.output, m.N, m.H, m.C, "an output layer");
     part.output = MakeLayer(*pn.output, nullptr, false);
     part.nodes = net.part_nodes()[p];
     m.parts.push_back(std::move(part));

@@ -20,6 +20,21 @@ void ValidateGeneratorOptions(const GeneratorOptions& o) {
   if (o.blocks < 0) bad("blocks", o.blocks, "must be >= 0");
   if (o.nz < 1) bad("nz", o.nz, "must be >= 1");
   if (o.dropout < 0 || o.dropout >= 1) bad("dropout", o.dropout, "must be in [0, 1)");
+  // Upper bounds: a damaged or hostile model.yaml must not make the loader allocate gigabytes
+  // before the weights are compared with it.
+  if (o.num_nodes > kMaxGeneratorNodes) bad("num_nodes", o.num_nodes, "must be <= 1000");
+  if (o.num_frames() > kMaxGeneratorFrames) {
+    bad("t_his + t_pred", o.num_frames(), "must be <= " + std::to_string(kMaxGeneratorFrames));
+  }
+  if (o.hidden > kMaxGeneratorWidth) bad("hidden", o.hidden, "must be <= 4096");
+  if (o.nz > kMaxGeneratorWidth) bad("nz", o.nz, "must be <= 4096");
+  if (o.blocks > kMaxGeneratorBlocks) bad("blocks", o.blocks, "must be <= 100");
+  const double weights = (2.0 * o.blocks + 2) * o.hidden * double(o.hidden);
+  if (weights > kMaxGeneratorPartWeights) {
+    bad("(2 x blocks + 2) x hidden^2", weights,
+        "the graph-conv weights of one body part must be <= " +
+            std::to_string(kMaxGeneratorPartWeights) + " numbers");
+  }
   if (o.partition.empty())
     throw std::invalid_argument("generator: partition must name a partition");
 }

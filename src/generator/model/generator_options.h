@@ -3,6 +3,7 @@
 // (bundle/generator_bundle.h) reads and writes them; configs, apps and the API read them.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <string>
 
@@ -25,6 +26,14 @@ struct GeneratorOptions {
   int num_frames() const { return t_his + t_pred; }
   int coeff_features() const { return 3 * n_pre; }  // per node: x, y, z of each coefficient
 };
+
+// Upper bounds on a generator's sizes (ValidateGeneratorOptions): far above any published model,
+// low enough that a damaged model.yaml cannot make the loader allocate more than ~1 GB.
+constexpr int kMaxGeneratorNodes = 1000;
+constexpr int kMaxGeneratorFrames = 4096;                 // t_his + t_pred
+constexpr int kMaxGeneratorWidth = 4096;                  // hidden, nz
+constexpr int kMaxGeneratorBlocks = 100;                  // residual blocks
+constexpr int64_t kMaxGeneratorPartWeights = 64ll << 20;  // (2 blocks + 2) hidden^2 per part
 
 // Throws std::invalid_argument naming the field, its value and the rule.
 void ValidateGeneratorOptions(const GeneratorOptions& o);
