@@ -112,23 +112,49 @@ std::string WeightBytes(torch::nn::Module& net, const std::string& signature) {
   return out.str();
 }
 
+struct VerifiedWeights::Impl {
+  std::string bytes;
+  std::string weights;   // the file's path
+  std::string manifest;  // the manifest's name
+  std::shared_ptr<torch::jit::Module> file;
+};
+
+VerifiedWeights::VerifiedWeights(const std::string& bytes, const std::string& dir,
+                                 const TorchBundleNames& names, const std::string& signature,
+                                 BundleCheck check)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->bytes = bytes;
+  impl_->weights = (std::filesystem::path(dir) / names.weights).string();
+  impl_->manifest = names.manifest;
+  try {
+    std::istringstream in(bytes);
+    impl_->file = std::make_shared<torch::jit::Module>(torch::jit::load(in, torch::kCPU));
+  } catch (const c10::Error& e) {
+    Fail(impl_->weights,
+         std::string("cannot read the weights (damaged, or not a LibTorch file): ") +
+             e.what_without_backtrace());
+  }
+  CheckSignature(*impl_->file, dir, names, signature, check);
+}
+
+VerifiedWeights::~VerifiedWeights() = default;
+
+void VerifiedWeights::LoadInto(torch::nn::Module& net) const {
+  CheckShapes(NetShapes(net), FileShapes(*impl_->file), impl_->weights, impl_->manifest);
+  try {
+    std::istringstream in(impl_->bytes);
+    torch::serialize::InputArchive archive;
+    archive.load_from(in, torch::kCPU);
+    net.load(archive);
+  } catch (const c10::Error& e) {
+    Fail(impl_->weights, std::string("cannot load the weights: ") + e.what_without_backtrace());
+  }
+}
+
 void LoadVerifiedWeights(torch::nn::Module& net, const std::string& bytes, const std::string& dir,
                          const TorchBundleNames& names, const std::string& signature,
                          BundleCheck check) {
-  const std::string weights = (std::filesystem::path(dir) / names.weights).string();
-  try {
-    std::istringstream in(bytes);
-    const torch::jit::Module file = torch::jit::load(in, torch::kCPU);
-    CheckSignature(file, dir, names, signature, check);
-    CheckShapes(NetShapes(net), FileShapes(file), weights, names.manifest);
-    std::istringstream again(bytes);
-    torch::serialize::InputArchive archive;
-    archive.load_from(again, torch::kCPU);
-    net.load(archive);
-  } catch (const c10::Error& e) {
-    Fail(weights, std::string("cannot read the weights (damaged, or not a LibTorch file): ") +
-                      e.what_without_backtrace());
-  }
+  VerifiedWeights(bytes, dir, names, signature, check).LoadInto(net);
 }
 
 }  // namespace motionfork

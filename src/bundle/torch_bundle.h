@@ -16,6 +16,7 @@
 #include <torch/torch.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "bundle/bundle_files.h"
@@ -36,8 +37,23 @@ enum class BundleCheck { kStrict, kLegacy };
 // The weights file's bytes: net's tensors and the manifest signature.
 std::string WeightBytes(torch::nn::Module& net, const std::string& signature);
 
-// Checks `bytes` (the weights file `names.weights` of `dir`) against `net`, built from the
-// manifest whose model-defining part is `signature`, then loads them into net.
+// A bundle's weights file (`bytes`, the file names.weights of dir) read and checked against the
+// signature of its manifest, before the network the manifest describes is built: an edited
+// manifest is refused before anything of its sizes is allocated.
+class VerifiedWeights {
+ public:
+  VerifiedWeights(const std::string& bytes, const std::string& dir, const TorchBundleNames& names,
+                  const std::string& signature, BundleCheck check);
+  ~VerifiedWeights();
+  // Checks every tensor's name and shape against net's, then copies them into net.
+  void LoadInto(torch::nn::Module& net) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// VerifiedWeights(...).LoadInto(net).
 void LoadVerifiedWeights(torch::nn::Module& net, const std::string& bytes, const std::string& dir,
                          const TorchBundleNames& names, const std::string& signature,
                          BundleCheck check);
@@ -55,8 +71,9 @@ auto LoadTorchBundle(const std::string& dir, const TorchBundleNames& names, Mani
   *m = load_manifest((std::filesystem::path(dir) / names.manifest).string(), &sums);
   if (check == BundleCheck::kStrict) RequireChecksum(dir, names.weights, sums, names.manifest);
   const std::string bytes = ReadBundleFile(dir, names.weights, sums, names.manifest);
+  const VerifiedWeights weights(bytes, dir, names, signature(*m), check);
   Net net = build(*m);
-  LoadVerifiedWeights(*net, bytes, dir, names, signature(*m), check);
+  weights.LoadInto(*net);
   net->eval();
   return net;
 }
