@@ -393,9 +393,10 @@ void RequireSeparateOutput(const std::string& output, const std::vector<std::str
       if (input.empty()) continue;
       for (const fs::path& i : PairFiles(input, false)) {
         if (SameFile(o, i)) {
+          const std::string named = i.string() == input ? "" : " (" + input + ")";
           throw std::invalid_argument("the output " + o.string() + " is the input " + i.string() +
-                                      " (" + input +
-                                      "): it would be overwritten; choose another output name");
+                                      named +
+                                      ": it would be overwritten; choose another output name");
         }
       }
     }
