@@ -26,8 +26,8 @@ TEST_CASE("error text: LibTorch, out of memory and JSON errors become one readab
         "out of memory while running 'motionfork predict' (the input or the request needs more "
         "memory than is available)");
   try {
-    (void)nlohmann::json::parse("{1}");
-    FAIL("expected a JSON error");
+    const auto parsed = nlohmann::json::parse("{1}");
+    FAIL("expected a JSON error, parsed " << parsed.dump());
   } catch (const std::exception& e) {
     const std::string m = UserErrorMessage(e, "");
     CHECK_THAT(m, Contains("JSON: ") && !Contains("[json.exception"));
