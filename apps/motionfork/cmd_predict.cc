@@ -42,7 +42,7 @@ the root stays where the history ended: models predict root-relative poses) and 
   cmd->add_option("--start", o->files.start,
                   "First history frame (default: the last t_his frames of the file)")
       ->check(NonNegativeNumber);
-  cmd->add_option("-k", o->files.request.k, "Futures to predict (default 50)")
+  cmd->add_option("-k", o->files.request.k, "Futures to predict (default 50, at most 10000)")
       ->check(PositiveNumber);
   cmd->add_option("--fix", o->files.request.fixed_parts,
                   "Body part whose latent all K futures share (e.g. legs: same legs, varied upper "
