@@ -87,6 +87,17 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// Names in dir of temporary files or folders a killed or failed write would leave behind
+// ("*.tmp<digits>", io/file_util.h).
+inline std::vector<std::string> TemporaryLeftovers(const std::filesystem::path& dir) {
+  std::vector<std::string> found;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.find(".tmp") != std::string::npos) found.push_back(name);
+  }
+  return found;
+}
+
 // A test that cannot run here and would skip: under CI=true (where every test must run) throws
 // `why`, so the test fails; elsewhere returns and the caller skips (prints "SKIPPED: ...").
 inline void FailUnderCi(const std::string& why) {

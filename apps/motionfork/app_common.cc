@@ -80,6 +80,7 @@ void ProgressBar::Finish() {
 
 StageProgress StageBars::Callback() {
   return [this](const std::string& stage, double fraction, const std::string& detail) {
+    if (stage == kWarningStage) return PrintWarning(detail);
     if (!bar_ || stage != stage_) {
       bar_ = std::make_unique<ProgressBar>(stage, enabled_);
       stage_ = stage;
@@ -111,5 +112,9 @@ void EpochBars::PrintEpoch(int epoch, double seconds,
 void PrintMessage(const std::string& message) { std::printf("%s\n", message.c_str()); }
 
 void PrintText(const std::string& text) { std::fputs(text.c_str(), stdout); }
+
+void PrintWarning(const std::string& message) {
+  std::fprintf(stderr, "%smotionfork: warning: %s\n", isatty(2) ? "\r\033[K" : "", message.c_str());
+}
 
 }  // namespace motionfork::app

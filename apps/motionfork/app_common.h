@@ -82,5 +82,7 @@ void PrintMessage(const std::string& message);
 
 // Prints a library's text report (core/text_format.h: WithThousands, Duration) as it is.
 void PrintText(const std::string& text);
+// "motionfork: warning: MESSAGE" on stderr (over any progress bar).
+void PrintWarning(const std::string& message);
 
 }  // namespace motionfork::app

@@ -59,9 +59,10 @@ Exit status: 0 every frame is valid, 1 some frame is not, 2 bad input or usage.)
                 "The report (frames, valid_frame_share, per-constraint violation_rate, "
                 "worst_frames), instead of text on stdout,");
   cmd->add_option("--worst", o->worst, "How many of the worst frames to list (default 5)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
   cmd->add_option("--angles", o->angles_csv,
-                  "Also write every frame's angles (degrees; empty = undefined) to this CSV file");
+                  "Also write every frame's angles (degrees; empty = undefined) to this CSV file")
+      ->check(OutputFile);
 }
 
 }  // namespace motionfork::app

@@ -42,11 +42,13 @@ With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g.
 Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted
 with tools/videopose3d_to_motionfork.py.)");
   AddInputFile(cmd, "IN", &o->in, "Input motion file");
-  cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")->required();
+  cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")
+      ->required()
+      ->check(OutputFile);
   AddMotionInputOptions(cmd, &o->input);
   cmd->add_option("--resample", o->target_fps,
                   "Resample to this frame rate, Hz (linear interpolation)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   cmd->add_flag("--root-relative", o->root_relative,
                 "Subtract the root joint's position in every frame");
 }

@@ -25,23 +25,7 @@
 namespace motionfork::app {
 namespace {
 
-// --mode / --iterations / --draws / --seed / --blend over the bundle's defaults.
-struct DenoiseFlags {
-  std::string mode;
-  int iterations = -1, samples = -1;
-  int64_t seed = -1;
-  std::string output;
-  DenoiseOptions Apply(DenoiseOptions o) const {
-    if (!mode.empty()) o.mode = ParseDenoiseMode(mode);
-    if (iterations >= 0) o.iterations = iterations;
-    if (samples >= 0) o.samples = samples;
-    if (seed >= 0) o.seed = static_cast<uint64_t>(seed);
-    if (!output.empty()) o.fuse = output == "fused";
-    return o;
-  }
-};
-
-void AddDenoiseFlags(CLI::App* cmd, DenoiseFlags* f) {
+void AddDenoiseOverrides(CLI::App* cmd, DenoiseOverrides* f) {
   cmd->add_option("--mode", f->mode,
                   "regression (one pass of the fine-tuned encoder) or optimisation (Adam steps on "
                   "the sequence's\n"
@@ -49,19 +33,19 @@ void AddDenoiseFlags(CLI::App* cmd, DenoiseFlags* f) {
       ->check(CLI::IsMember({"regression", "optimisation", "optimization"}));
   cmd->add_option("--iterations", f->iterations,
                   "Optimisation mode: Adam steps (default: the bundle's, 50)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
   cmd->add_option("--draws", f->samples,
                   "Posterior draws averaged; 0 = posterior means (default: the bundle's)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
   AddDeprecatedOption(cmd, "--samples", "--draws", &f->samples);
   cmd->add_option("--seed", f->seed, "Seed of the posterior draws (default: the bundle's)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--blend", f->output,
+      ->check(Seed);
+  cmd->add_option("--blend", f->blend,
                   "fused (the paper's: decoder and input weighted by their variances) or decoder "
                   "(the decoder's\n"
                   "frames alone, smoother); default: the bundle's")
       ->check(CLI::IsMember({"fused", "decoder"}));
-  AddDeprecatedOption(cmd, "--output", "--blend", &f->output);
+  AddDeprecatedOption(cmd, "--output", "--blend", &f->blend);
 }
 
 // ---- denoise ----
@@ -69,7 +53,7 @@ struct DenoiseCmd {
   std::string model, motion, out, noise;
   uint64_t noise_seed = 0;
   int threads = 1;
-  DenoiseFlags flags;
+  DenoiseOverrides flags;
   MotionInputOptions input;
 };
 
@@ -122,7 +106,7 @@ struct EvalCmd {
   std::string model, data, split_file, forecaster, json_out;
   int threads = 1;
   DvaeEvalOptions eval;
-  DenoiseFlags flags;
+  DenoiseOverrides flags;
 };
 
 // The header once the clips are chosen, then each noise kind's row as it is measured.
@@ -161,9 +145,9 @@ models/bandai/dvae. Windows of the model's length every 'stride' frames, blended
   cmd->add_option(
       "--add-noise", d->noise,
       "Corrupt the input first (a test): gaussian:S, outliers:P,S or jitter:S (metres)");
-  cmd->add_option("--noise-seed", d->noise_seed, "Seed of --add-noise (default 0)");
+  cmd->add_option("--noise-seed", d->noise_seed, "Seed of --add-noise (default 0)")->check(Seed);
   AddThreadsOption(cmd, &d->threads);
-  AddDenoiseFlags(cmd, &d->flags);
+  AddDenoiseOverrides(cmd, &d->flags);
   AddMotionInputOptions(cmd, &d->input);
 }
 
@@ -180,19 +164,19 @@ ADE/FDE from noisy and denoised histories.)");
       "--noise", e->eval.noises,
       "Noise kinds (repeatable; default: gaussian 2/5/10 cm, two outlier settings, jitter 5 cm)");
   cmd->add_option("--test-clips", e->eval.clips, "Test clips used, spread evenly (default 200)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   AddDeprecatedOption(cmd, "--clips", "--test-clips", &e->eval.clips);
   cmd->add_option("--optimisation-clips", e->eval.optimisation_clips,
                   "Of those, how many optimisation mode runs on (default 20)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
   cmd->add_option("--smooth-sigma", e->eval.smooth_sigma,
                   "Baseline's Gaussian sigma in frames (default 2)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   AddForecasterOptions(cmd, &e->forecaster, &e->eval.forecast_windows, &e->eval.k,
                        "Protocol test windows forecast (default 300)");
   AddThreadsOption(cmd, &e->threads);
   AddJsonOption(cmd, &e->json_out, "The figures");
-  AddDenoiseFlags(cmd, &e->flags);
+  AddDenoiseOverrides(cmd, &e->flags);
 }
 
 }  // namespace motionfork::app

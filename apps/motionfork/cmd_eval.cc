@@ -70,7 +70,7 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::ExistingDirectory);
   cmd->add_option("-k", e.k, "Futures per history (K, >= 2; default 50)");
   AddDeprecatedOption(cmd, "--samples", "-k", &e.k);
-  cmd->add_option("--seed", e.seed, "Seed (window i uses a mix of it and i)");
+  cmd->add_option("--seed", e.seed, "Seed (window i uses a mix of it and i)")->check(Seed);
   cmd->add_option(
       "--constraints", e.constraints,
       "Constraint set for the angle-violation rate (default: the protocol's shipped set; "

@@ -60,7 +60,7 @@ tools/blender_check_bvh.py.)");
                "Prediction written by 'motionfork predict' (.json or .npy)");
   AddOutOption(cmd, &o->out, "Output path ending in .bvh; written all-or-nothing");
   cmd->add_option("--sample", o->sample, "Only this sample (0-based), written to OUT itself")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
   cmd->add_option("--lengths", o->lengths,
                   "mean: every bone keeps its mean length (rotations only, as animators expect; "
                   "default); exact: bones whose length varies get translation channels, so every "
@@ -69,7 +69,7 @@ tools/blender_check_bvh.py.)");
   cmd->add_option(
          "--scale", o->bvh.scale_to_metres,
          "File length unit in metres (default 0.01: centimetres, as most BVH files; 1: metres)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   cmd->add_option("--rotation-order", o->bvh.rotation_order,
                   "Axis order of every joint's rotation channels (default ZXY; e.g. ZYX, XYZ)");
 }

@@ -25,25 +25,13 @@
 namespace motionfork::app {
 namespace {
 
-// --steps / --lr / --objective over the bundle's defaults.
-struct ImputeFlags {
-  int steps = -1;
-  double lr = 0;
-  std::string objective;
-  ImputeOptions Apply(ImputeOptions o) const {
-    if (steps >= 0) o.steps = steps;
-    if (lr > 0) o.learning_rate = lr;
-    if (!objective.empty()) o.objective = ParseImputeObjective(objective);
-    return o;
-  }
-};
-
-void AddImputeFlags(CLI::App* cmd, ImputeFlags* f) {
+void AddImputeOverrides(CLI::App* cmd, ImputeOverrides* f) {
   cmd->add_option("--steps", f->steps,
                   "Adam steps on the missing values (default: the bundle's, 10)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--lr", f->lr, "Adam step size on normalised coordinates (default: the bundle's)")
-      ->check(CLI::PositiveNumber);
+      ->check(NonNegativeNumber);
+  cmd->add_option("--lr", f->learning_rate,
+                  "Adam step size on normalised coordinates (default: the bundle's)")
+      ->check(PositiveNumber);
   cmd->add_option(
          "--objective", f->objective,
          "posterior (the paper's sum over levels) or joint (+ log p(x|z)); default: the bundle's")
@@ -55,7 +43,7 @@ struct ImputeCmd {
   std::string model, motion, out, cls;
   std::vector<std::string> masks;
   uint64_t seed = 0;
-  ImputeFlags flags;
+  ImputeOverrides flags;
   MotionInputOptions input;
 };
 
@@ -132,7 +120,7 @@ void RunSample(const SampleCmd& o, const GlobalOptions&) {
 struct EvalCmd {
   std::string model, data, split_file, forecaster, json_out;
   HgvaeEvalOptions eval;
-  ImputeFlags flags;
+  ImputeOverrides flags;
 };
 
 void RunEval(EvalCmd o, const GlobalOptions& g) {
@@ -168,8 +156,8 @@ are kept exactly.)");
       "= "
       "missing)");
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
-  cmd->add_option("--seed", o->seed, "Seed of random masks (default 0)");
-  AddImputeFlags(cmd, &o->flags);
+  cmd->add_option("--seed", o->seed, "Seed of random masks (default 0)")->check(Seed);
+  AddImputeOverrides(cmd, &o->flags);
   AddOutOption(cmd, &o->out, "Output motion file (.npy, .csv or .bvh)");
   AddMotionInputOptions(cmd, &o->input);
 }
@@ -183,7 +171,7 @@ below the training windows' mean - k std (k in the bundle). Exit status 1 when a
   AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");
   cmd->add_option("--stride", o->stride,
                   "Frames between window starts (default: the window length)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   AddJsonOption(cmd, &o->json_out, "The scores");
   AddMotionInputOptions(cmd, &o->input);
@@ -197,8 +185,8 @@ void AddHgvaeSampleCommand(CLI::App& hgvae, GlobalOptions& global) {
   cmd->add_option("--class", o->cls, "Class to sample (e.g. walk); default none (unconditional)");
   cmd->add_option("-n,--count", o->count,
                   "Windows to sample (default 1); written one after another")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--seed", o->seed, "Random seed (default 0)");
+      ->check(PositiveNumber);
+  cmd->add_option("--seed", o->seed, "Random seed (default 0)")->check(Seed);
   cmd->add_flag("--mean-latents", o->mean_latents, "Each level's prior mean instead of a sample");
   AddOutOption(cmd, &o->out, "Output motion file (.npy, .csv or .bvh)");
 }
@@ -212,12 +200,12 @@ and with --forecaster the forecasting ADE/FDE from clean, mean-imputed and imput
   AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   AddDataOptions(cmd, &o->data, &o->split_file, "Data folder of the model's protocol");
   cmd->add_option("--windows", o->eval.windows, "Test windows, spread evenly (default 1000)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   AddForecasterOptions(cmd, &o->forecaster, &o->eval.forecast_windows, &o->eval.k,
                        "Protocol test windows for them (default 500)");
-  cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)");
+  cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)")->check(Seed);
   cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
-  AddImputeFlags(cmd, &o->flags);
+  AddImputeOverrides(cmd, &o->flags);
   AddJsonOption(cmd, &o->json_out, "Every figure");
 }
 

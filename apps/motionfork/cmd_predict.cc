@@ -1,12 +1,11 @@
 // motionfork predict: K futures of a history with a trained model bundle (pipeline/predict.h).
-#include <cstdio>
-
 #include "app_common.h"
 #include "commands.h"
 #include "flags.h"
 #include "io/prediction_file.h"
 #include "motion_options.h"
 #include "pipeline/predict.h"
+#include "pipeline/predict_text.h"
 
 namespace motionfork::app {
 namespace {
@@ -17,38 +16,6 @@ struct PredictOptions {
   std::string out;
 };
 
-void PrintRepairs(const Prediction& p) {
-  if (const auto& im = p.imputation) {
-    std::printf(
-        "imputed %d missing history values with %s (%s score %.1f -> %.1f; training windows %.1f "
-        "+- %.1f)\n",
-        im->missing_values, im->model.c_str(), im->score_kind.c_str(), im->score_before,
-        im->score_after, im->training_mean, im->training_std);
-  }
-  if (const auto& d = p.denoising) {
-    std::printf(
-        "denoised the history with %s (%s mode, frames %d..%d): mean change %.2f cm per joint\n",
-        d->model.c_str(), d->mode.c_str(), d->first_frame, p.start_frame + p.t_his - 1,
-        100 * d->mean_change);
-  }
-}
-
-void PrintValidity(const Prediction& p, const pipeline::PredictNotes& notes) {
-  const pipeline::ValiditySummary s = pipeline::Summarise(p);
-  if (notes.angle_ranges) {
-    std::printf(
-        "angle ranges: %d of %d futures valid in every frame (history: %d of %d frames violate)\n",
-        s.valid_futures, p.k, p.history_validity->violating_frames, p.t_his);
-  }
-  if (notes.prior) {
-    std::printf("prior NLL: futures %.2f nats per pose (mean), history %.2f\n", s.mean_prior_nll,
-                *p.history_validity->prior_nll);
-  }
-  if (!notes.angle_ranges && !notes.prior) {
-    std::printf("no validity figures: the bundle carries no constraints.yaml or prior/\n");
-  }
-}
-
 void RunPredict(PredictOptions o, const GlobalOptions& g) {
   RequireMotion(o.files.history);
   o.files.input.config_dir = ConfigDir(g.config_dir);
@@ -56,11 +23,8 @@ void RunPredict(PredictOptions o, const GlobalOptions& g) {
   pipeline::PredictNotes notes;
   const Prediction p = pipeline::PredictFromFiles(o.files, &notes);
   NoteResampling(o.files.history, notes.resampled_from, p.fps);
-  PrintRepairs(p);
-  const std::string base = WritePrediction(o.out, p);
-  std::printf("wrote %s.npy [%d, %d, %d, 3] (history + %d futures, %.6g Hz) and %s.json\n",
-              base.c_str(), p.k, p.frames(), p.joints(), p.k, p.fps, base.c_str());
-  PrintValidity(p, notes);
+  PrintText(pipeline::PredictionRepairsText(p));
+  PrintText(pipeline::PredictionWrittenText(p, WritePrediction(o.out, p), notes));
 }
 
 }  // namespace
@@ -77,14 +41,15 @@ the root stays where the history ended: models predict root-relative poses) and 
                     "--history");
   cmd->add_option("--start", o->files.start,
                   "First history frame (default: the last t_his frames of the file)")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("-k", o->files.request.k, "Futures to predict (default 50)")
-      ->check(CLI::PositiveNumber);
+      ->check(NonNegativeNumber);
+  cmd->add_option("-k", o->files.request.k, "Futures to predict (default 50, at most 10000)")
+      ->check(PositiveNumber);
   cmd->add_option("--fix", o->files.request.fixed_parts,
                   "Body part whose latent all K futures share (e.g. legs: same legs, varied upper "
                   "body); repeat for several");
   cmd->add_option("--seed", o->files.request.seed,
-                  "Random seed: the same seed gives the same futures (default 0)");
+                  "Random seed: the same seed gives the same futures (default 0)")
+      ->check(Seed);
   cmd->add_flag("--no-repair", o->no_repair,
                 "Keep the network's raw futures: by default poses that break the bundle's angle "
                 "ranges (constraints.yaml) are moved back inside them, as little as it takes");

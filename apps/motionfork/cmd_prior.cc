@@ -173,7 +173,7 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
   train
       ->add_option("--threads", t->threads,
                    "LibTorch/BLAS threads (default $MOTIONFORK_THREADS or 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   train->add_flag("--restart", t->restart,
                   "Discard a checkpoint or trained prior in OUT and train from the start");
 }
@@ -204,21 +204,19 @@ void AddPriorSample(CLI::App* prior, GlobalOptions& global) {
       "real poses. One pose per frame, root at the origin, the training data's mean bone lengths,\n"
       "at the protocol's frame rate.");
   AddModelOption(sample, &m->model, "Prior bundle folder (holding prior.yaml)");
-  sample->add_option("-n,--count", m->count, "Number of poses")
-      ->required()
-      ->check(CLI::PositiveNumber);
+  sample->add_option("-n,--count", m->count, "Number of poses")->required()->check(PositiveNumber);
   sample->add_option("-o,--out", m->output, "Output file (.npy [N, J, 3] or .csv; required)");
   AddDeprecatedOption(sample, "--output", "-o/--out", &m->output);
-  sample->add_option("--seed", m->seed, "Random seed (default 0)");
+  sample->add_option("--seed", m->seed, "Random seed (default 0)")->check(Seed);
   sample
       ->add_option("--temperature", m->temperature,
                    "Sample p^(1/T) (default 1; < 1 gives more typical poses)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   sample
       ->add_option("--steps", m->steps,
                    "Metropolis-Hastings steps (default 1000; 0 = raw flow samples, fast but mostly "
                    "implausible)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
 }
 
 }  // namespace

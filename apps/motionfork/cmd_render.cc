@@ -67,7 +67,7 @@ futures side by side, with play/pause, a frame slider, sample selection and spee
   cmd->add_option("--pick", o->pick,
                   "Samples shown, by index (e.g. --pick 0,3,7); overrides --count")
       ->delimiter(',')
-      ->check(CLI::NonNegativeNumber);
+      ->check(NonNegativeNumber);
   cmd->add_option("--every", o->strip.every,
                   "Figure: frames between drawn poses (default: about 12 future poses a row)")
       ->check(CLI::Range(1, 1000000));

@@ -41,8 +41,8 @@ built-in history, and a quick input for trying any command. Hip, knee and arm sw
 the pelvis riding on the lower foot; Bandai protocol skeleton (17 joints), metres, Y up.)");
   cmd->add_option("KIND", o->kind, "Motion to make (walk)")->check(CLI::IsMember({"walk"}));
   AddOutOption(cmd, &o->out, "Output file (.npy, .csv or .bvh); written all-or-nothing");
-  cmd->add_option("--frames", o->walk.frames, "Frames (default 60)")->check(CLI::PositiveNumber);
-  cmd->add_option("--fps", o->walk.fps, "Frame rate, Hz (default 30)")->check(CLI::PositiveNumber);
+  cmd->add_option("--frames", o->walk.frames, "Frames (default 60)")->check(PositiveNumber);
+  cmd->add_option("--fps", o->walk.fps, "Frame rate, Hz (default 30)")->check(PositiveNumber);
   cmd->add_option("--speed", o->walk.speed, "Walking speed, m/s (default 1.2)");
   cmd->add_option("--stride-hz", o->walk.stride_hz,
                   "Gait cycles (two steps) per second (default 0.9)");

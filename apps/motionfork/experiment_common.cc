@@ -19,6 +19,7 @@ Dataset LoadProtocolDataset(const std::string& protocol, const std::string& data
   load.split_file = split_file;
   ProgressBar bar("loading " + p.name, !global.quiet);
   load.progress = [&bar](const LoadProgress& lp) { bar.Update(lp.fraction, lp.detail); };
+  load.warning = PrintWarning;
   Dataset ds = LoadDataset(p, skeleton, data_dir, load);
   bar.Finish();
   return ds;

@@ -2,10 +2,64 @@
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "io/file_util.h"
+#include "io/json_text.h"
 
 namespace motionfork::app {
+
+namespace {
+
+CLI::Validator NumberAbove0(bool zero_too) {
+  return CLI::Validator(
+      [zero_too](std::string& text) {
+        double v = 0;
+        const bool ok = CLI::detail::lexical_cast(text, v) && (v > 0 || (zero_too && v == 0));
+        return ok ? std::string()
+                  : "expected a number " + std::string(zero_too ? ">= 0" : "> 0") + ", found '" +
+                        text + "'";
+      },
+      zero_too ? "NONNEGATIVE" : "POSITIVE");
+}
+
+bool Checks(CLI::Option* option, const CLI::Validator& validator) {
+  try {
+    return option->get_validator(validator.get_name()) != nullptr;
+  } catch (const CLI::OptionNotFound&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+const CLI::Validator PositiveNumber = NumberAbove0(false), NonNegativeNumber = NumberAbove0(true);
+const CLI::Validator Seed(
+    [](std::string& t) {
+      const bool ok = !t.empty() && t.size() <= 20 && t.find_first_not_of("0123456789") == t.npos &&
+                      (t.size() < 20 || t <= "18446744073709551615");
+      return ok ? "" : "expected an integer 0..18446744073709551615, found '" + t + "'";
+    },
+    "", "SEED");
+const CLI::Validator InputFile(
+    [](std::string& path) {
+      const std::string problem = InputFileProblem(path);
+      return problem.empty() ? problem : path + ": " + problem;
+    },
+    "FILE", "INPUT_FILE");
+const CLI::Validator OutputFile([](std::string&) { return std::string(); }, "", "OUTPUT_FILE");
+
+void RequireSeparateOutputs(CLI::App* cmd) {
+  std::vector<std::string> inputs, outputs;
+  for (CLI::Option* option : cmd->get_options()) {
+    const std::vector<std::string>& values = option->results();
+    if (Checks(option, InputFile)) inputs.insert(inputs.end(), values.begin(), values.end());
+    if (Checks(option, OutputFile)) outputs.insert(outputs.end(), values.begin(), values.end());
+  }
+  for (const std::string& out : outputs) {
+    if (out != "-") RequireSeparateOutput(out, inputs);
+  }
+}
 
 void NoteDeprecated(const std::string& old_spelling, const std::string& new_spelling) {
   std::fprintf(stderr,
@@ -16,9 +70,10 @@ void NoteDeprecated(const std::string& old_spelling, const std::string& new_spel
 
 void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,
                        const std::string& old_flag) {
-  cmd->add_option("MOTION", *path, help)->check(CLI::ExistingFile);
+  cmd->add_option("MOTION", *path, help)->check(InputFile);
   if (!old_flag.empty()) {
-    AddDeprecatedOption(cmd, old_flag, "the motion file as the first argument", path);
+    AddDeprecatedOption(cmd, old_flag, "the motion file as the first argument", path)
+        ->check(InputFile);
   }
 }
 
@@ -32,7 +87,7 @@ void RequireArgument(const std::string& value, const std::string& name) {
 
 CLI::Option* AddInputFile(CLI::App* cmd, const std::string& name, std::string* path,
                           const std::string& help) {
-  return cmd->add_option(name, *path, help)->required()->check(CLI::ExistingFile);
+  return cmd->add_option(name, *path, help)->required()->check(InputFile);
 }
 
 CLI::Option* AddModelOption(CLI::App* cmd, std::string* dir, const std::string& help) {
@@ -50,19 +105,19 @@ void AddDataOptions(CLI::App* cmd, std::string* dir, std::string* split_file,
 }
 
 CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& help) {
-  return cmd->add_option("-o,--out", *path, help)->required();
+  return cmd->add_option("-o,--out", *path, help)->required()->check(OutputFile);
 }
 
 void AddThreadsOption(CLI::App* cmd, int* threads) {
-  cmd->add_option("--threads", *threads, "Threads (default 1)")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", *threads, "Threads (default 1)")->check(PositiveNumber);
 }
 
 void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,
                           const std::string& windows_help) {
   cmd->add_option("--forecaster", *forecaster,
                   "Generator bundle for the downstream figures (e.g. models/bandai)");
-  cmd->add_option("--forecast-windows", *windows, windows_help)->check(CLI::PositiveNumber);
-  cmd->add_option("-k", *k, "Futures per history (default 50)")->check(CLI::PositiveNumber);
+  cmd->add_option("--forecast-windows", *windows, windows_help)->check(PositiveNumber);
+  cmd->add_option("-k", *k, "Futures per history (default 50)")->check(PositiveNumber);
 }
 
 void AddTrainingRunOptions(CLI::App* cmd, TrainingRunFlags* f, const std::string& out_help) {
@@ -70,10 +125,10 @@ void AddTrainingRunOptions(CLI::App* cmd, TrainingRunFlags* f, const std::string
   cmd->add_option("--out", f->out, out_help)->required();
   cmd->add_option("--split", f->split_file, "Split file overriding the protocol's");
   cmd->add_option("--epochs", f->epochs, "Override the config's epoch count")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   cmd->add_option("--stop-after", f->stop_after,
                   "Stop after this many epochs of this run (resume later)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
 }
 
 void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what) {
@@ -81,31 +136,16 @@ void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& w
                   what + " as JSON: written to FILE, or printed on stdout with '-' or no FILE")
       ->expected(0, 1)
       ->default_str("-")
-      ->type_name("[FILE]");
+      ->type_name("[FILE]")
+      ->check(OutputFile);
 }
-
-namespace {
-
-// One line, with ", " and ": " between items (as the commands printed JSON before nlohmann).
-std::string OneLine(const nlohmann::ordered_json& j) {
-  if (!j.is_structured() || j.empty()) return j.dump();
-  std::string out = j.is_object() ? "{" : "[";
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    if (it != j.begin()) out += ", ";
-    if (j.is_object()) out += nlohmann::ordered_json(it.key()).dump() + ": ";
-    out += OneLine(it.value());
-  }
-  return out + (j.is_object() ? "}" : "]");
-}
-
-}  // namespace
 
 void EmitJson(const std::string& destination, const nlohmann::ordered_json& report) {
   if (destination.empty()) return;
   if (destination == "-") {
-    std::printf("%s\n", OneLine(report).c_str());
+    std::printf("%s\n", OneLineJson(report).c_str());
   } else {
-    WriteFileAtomically(destination, report.dump(2) + "\n");
+    WriteFileAtomically(destination, IndentedJson(report));
   }
 }
 

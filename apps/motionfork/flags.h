@@ -11,6 +11,15 @@
 
 namespace motionfork::app {
 
+// Checks of option values with readable messages: numbers > 0 or >= 0 (CLI11's own print the
+// largest double in full), seeds (0..2^64-1, no silent wrap of -1), input files (regular files:
+// io/file_util.h InputFileProblem) and a mark on output paths (checked by RequireSeparateOutputs).
+extern const CLI::Validator PositiveNumber, NonNegativeNumber, Seed, InputFile, OutputFile;
+
+// Refuses (std::invalid_argument) an output path (an option checked with OutputFile) that is
+// empty, names only a folder, or names one of the input files (options checked with InputFile).
+void RequireSeparateOutputs(CLI::App* cmd);
+
 // A subcommand and the options its flags fill (they live as long as the callback that runs it).
 template <typename Options>
 struct Subcommand {
@@ -25,7 +34,10 @@ Subcommand<Options> AddSubcommand(CLI::App* parent, GlobalOptions& global, Run r
                                   const std::string& name, const std::string& description) {
   auto options = std::make_shared<Options>();
   CLI::App* cmd = parent->add_subcommand(name, description);
-  cmd->callback([options, run, &global] { run(*options, global); });
+  cmd->callback([cmd, options, run, &global] {
+    RequireSeparateOutputs(cmd);
+    run(*options, global);
+  });
   return {cmd, options};
 }
 
@@ -35,15 +47,16 @@ void NoteDeprecated(const std::string& old_spelling, const std::string& new_spel
 
 // A hidden option `old_flag` that sets *target like `new_spelling` does and prints the note.
 template <typename T>
-void AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
-                         const std::string& new_spelling, T* target) {
-  cmd->add_option_function<T>(
-         old_flag,
-         [old_flag, new_spelling, target](const T& value) {
-           NoteDeprecated(old_flag, new_spelling);
-           *target = value;
-         },
-         "Deprecated: " + new_spelling)
+CLI::Option* AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
+                                 const std::string& new_spelling, T* target) {
+  return cmd
+      ->add_option_function<T>(
+          old_flag,
+          [old_flag, new_spelling, target](const T& value) {
+            NoteDeprecated(old_flag, new_spelling);
+            *target = value;
+          },
+          "Deprecated: " + new_spelling)
       ->group("");  // hidden from --help
 }
 

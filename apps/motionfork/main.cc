@@ -10,12 +10,14 @@
 #include "core/error.h"
 #include "suggest.h"
 #include "torch_util/blas_core.h"
+#include "torch_util/error_text.h"
 #include "torch_util/malloc_tuning.h"
 
 int main(int argc, char** argv) {
   motionfork::UseFastBlasKernels(argv);  // OpenBLAS's fast kernels on CPUs it does not know
   motionfork::KeepFreedMemory();         // no page faults on every new tensor
   using namespace motionfork::app;
+  using motionfork::UserErrorMessage;
   CLI::App app{"motionfork " MOTIONFORK_VERSION
                ": diverse, controllable human motion prediction.\n"
                "Run 'motionfork SUBCOMMAND --help' for each subcommand's options."};
@@ -50,9 +52,12 @@ int main(int argc, char** argv) {
     }
     const int code = app.exit(e);
     return code == 0 ? 0 : kExitBadInput;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // one error path: no stack trace, no bare library text
     std::fflush(stdout);
-    std::fprintf(stderr, "motionfork: error: %s\n", e.what());
+    std::string doing = "running 'motionfork";
+    for (const CLI::App* s = &app; !s->get_subcommands().empty(); s = s->get_subcommands()[0])
+      doing += " " + s->get_subcommands()[0]->get_name();
+    std::fprintf(stderr, "motionfork: error: %s\n", UserErrorMessage(e, doing + "'").c_str());
     return kExitBadInput;
   }
   return global.exit_code;

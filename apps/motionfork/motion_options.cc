@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "app_common.h"
+#include "flags.h"
 
 namespace motionfork::app {
 
@@ -14,10 +15,10 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
   cmd->add_option("--fps", o->fps,
                   "Frame rate in Hz of files that store none (.npy; .csv without an fps comment); "
                   "default 30")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
   cmd->add_option("--bvh-scale", o->bvh_scale,
                   "BVH length unit in metres (0.01 = centimetres, the default; 1 = metres)")
-      ->check(CLI::PositiveNumber);
+      ->check(PositiveNumber);
 }
 
 MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir) {

@@ -170,8 +170,8 @@ class Model {
   // Samples options.k futures of a history. history: [T, J, 3] metres at fps() Hz, J =
   // joint_names().size(), T >= history_frames(); the last history_frames() frames are used.
   // Throws std::invalid_argument when the size is not a whole number of frames, there are too
-  // few frames, a value is NaN/Inf (naming the frame and joint), k < 1, or a fixed part is
-  // unknown (listing the known parts).
+  // few frames, a value is NaN/Inf (naming the frame and joint), k outside 1..10000, or a fixed
+  // part is unknown (listing the known parts).
   Futures Predict(const std::vector<float>& history, const PredictOptions& options = {}) const;
 
   // Checks every future against the constraint set: one SampleCheck per sample, frames counted

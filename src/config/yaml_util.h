@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/file_util.h"
 
 namespace motionfork::yaml_util {
 
@@ -28,15 +29,15 @@ inline FormatError YamlError(const std::string& file, const YAML::Exception& e) 
   return FormatError(FormatMessage(file, "line " + std::to_string(e.mark.line + 1), e.msg));
 }
 
+// Regular files only (io/file_util.h: a FIFO or a folder is refused, never waited on).
 inline YAML::Node LoadFile(const std::string& file) {
+  const std::string text = ReadFileBytes(file, RequireTextHead(file, "a YAML text file"));
   try {
-    YAML::Node root = YAML::LoadFile(file);
+    YAML::Node root = YAML::Load(text);
     if (!root.IsMap()) {
       throw FormatError(FormatMessage(file, "", "expected a YAML mapping at the top level"));
     }
     return root;
-  } catch (const YAML::BadFile&) {
-    throw FormatError(FormatMessage(file, "", "cannot open the file"));
   } catch (const YAML::Exception& e) {
     throw YamlError(file, e);
   }

@@ -17,4 +17,11 @@ inline void ReportProgress(const StageProgress& progress, const std::string& sta
   if (progress) progress(stage, fraction, detail);
 }
 
+// A warning for the caller to show, not a stage: a job that carries on after a problem (e.g. an
+// unwritable cache) reports stage kWarningStage with the message as the detail.
+inline constexpr char kWarningStage[] = "warning";
+inline void ReportWarning(const StageProgress& progress, const std::string& message) {
+  if (progress) progress(kWarningStage, 0, message);
+}
+
 }  // namespace motionfork

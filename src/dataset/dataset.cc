@@ -184,6 +184,32 @@ std::vector<CachedClip> ReadRawClips(const ProtocolOptions& p, const SkeletonCon
   return raw;
 }
 
+void Warn(const DatasetLoadOptions& options, const std::string& message) {
+  if (options.warning) options.warning(message);
+}
+
+// A damaged cache is a warning and is rebuilt, never fatal.
+bool ReadCacheOrWarn(const std::string& path, uint64_t key, const DatasetLoadOptions& options,
+                     std::vector<CachedClip>* raw) {
+  try {
+    return ReadClipCache(path, key, raw);
+  } catch (const FormatError& e) {
+    raw->clear();
+    Warn(options, std::string(e.what()) + "; reading the data again and rebuilding the cache");
+    return false;
+  }
+}
+
+// An unwritable cache folder is a warning: the run carries on without a cache.
+void WriteCacheOrWarn(const std::string& path, uint64_t key, const std::vector<CachedClip>& raw,
+                      const DatasetLoadOptions& options) {
+  try {
+    WriteClipCache(path, key, raw);
+  } catch (const std::exception& e) {
+    Warn(options, std::string(e.what()) + "; carrying on without a dataset cache");
+  }
+}
+
 }  // namespace
 
 Dataset LoadDataset(const ProtocolOptions& protocol, const SkeletonConfig& skeleton,
@@ -203,11 +229,11 @@ Dataset LoadDataset(const ProtocolOptions& protocol, const SkeletonConfig& skele
                   static_cast<unsigned long long>(src.key));
     cache_path = (fs::path(options.cache_dir) / name).string();
     if (options.progress) options.progress(LoadProgress{"reading cache", 0, cache_path});
-    ds.from_cache = ReadClipCache(cache_path, src.key, &raw);
+    ds.from_cache = ReadCacheOrWarn(cache_path, src.key, options, &raw);
   }
   if (!ds.from_cache) {
     raw = ReadRawClips(protocol, skeleton, data_dir, src, options);
-    if (!cache_path.empty()) WriteClipCache(cache_path, src.key, raw);
+    if (!cache_path.empty()) WriteCacheOrWarn(cache_path, src.key, raw, options);
   }
   ds.seconds_reading =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -73,6 +73,9 @@ struct DatasetLoadOptions {
   std::string cache_dir;   // "" = no cache
   std::string split_file;  // overrides the protocol's split.file; "" = protocol's
   std::function<void(const LoadProgress&)> progress;  // may be empty
+  // Problems the load carries on after (a damaged cache is rebuilt, an unwritable cache folder is
+  // not used); may be empty.
+  std::function<void(const std::string&)> warning;
 };
 
 // data_dir: the folder the protocol's source format reads (see configs/protocols/README.md).

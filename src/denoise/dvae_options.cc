@@ -11,6 +11,15 @@ DenoiseMode ParseDenoiseMode(const std::string& text) {
   return ParseEnumName(text, kDenoiseModeNames, "denoise mode");
 }
 
+DenoiseOptions DenoiseOverrides::Apply(DenoiseOptions o) const {
+  if (!mode.empty()) o.mode = ParseDenoiseMode(mode);
+  if (iterations >= 0) o.iterations = iterations;
+  if (samples >= 0) o.samples = samples;
+  if (seed >= 0) o.seed = static_cast<uint64_t>(seed);
+  if (!blend.empty()) o.fuse = blend == "fused";
+  return o;
+}
+
 void ValidateDvaeOptions(const DvaeOptions& o) {
   auto fail = [](const std::string& m) { throw std::invalid_argument("dvae model: " + m); };
   if (o.window < 3 || o.window > 4096)

@@ -88,6 +88,16 @@ struct DenoiseOptions {
   uint64_t seed = 0;
 };
 
+// Command-line overrides of a bundle's DenoiseOptions; unset fields ("" or < 0) keep the bundle's
+// value.
+struct DenoiseOverrides {
+  std::string mode;  // "regression" | "optimisation" | ""
+  int iterations = -1, samples = -1;
+  int64_t seed = -1;
+  std::string blend;  // "fused" | "decoder" | ""
+  DenoiseOptions Apply(DenoiseOptions o) const;
+};
+
 struct DvaeTrainConfig {
   std::string path;
   std::string name;

@@ -110,6 +110,14 @@ bool ReadMultimodalCache(const std::string& path, uint64_t key, MultimodalSets* 
   if (stored_key != key) return false;
   uint32_t n = 0;
   get(&n, sizeof(n), "the window count");
+  // Sizes are checked against the bytes left before anything is allocated for them.
+  auto require = [&](uint64_t bytes, const char* what) {
+    if (bytes > b.size() - pos) {
+      throw corrupt(std::string("multimodal cache is truncated: expected ") + what + " of " +
+                    std::to_string(bytes) + " bytes, found " + std::to_string(b.size() - pos));
+    }
+  };
+  require((static_cast<uint64_t>(n) + 1) * sizeof(int64_t), "the set offsets");
   MultimodalSets out;
   out.offsets.resize(static_cast<size_t>(n) + 1);
   get(out.offsets.data(), out.offsets.size() * sizeof(int64_t), "the set offsets");
@@ -117,6 +125,7 @@ bool ReadMultimodalCache(const std::string& path, uint64_t key, MultimodalSets* 
   for (size_t i = 0; i < n; ++i) {
     if (out.offsets[i + 1] <= out.offsets[i]) throw corrupt("set offsets do not increase");
   }
+  require(static_cast<uint64_t>(out.offsets.back()) * sizeof(int32_t), "the set members");
   out.members.resize(static_cast<size_t>(out.offsets.back()));
   get(out.members.data(), out.members.size() * sizeof(int32_t), "the set members");
   if (pos != b.size()) throw corrupt("unexpected bytes after the last set");

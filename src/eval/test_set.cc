@@ -7,6 +7,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "core/error.h"
+
 namespace motionfork {
 
 std::vector<float> TestSet::LastHistoryPoses() const {
@@ -105,13 +107,22 @@ bool AttachMultimodalSets(TestSet* test_set, double threshold, const std::string
     std::snprintf(name, sizeof(name), "-multimodal-%016llx.bin",
                   static_cast<unsigned long long>(key));
     path = (std::filesystem::path(cache_dir) / (cache_name_prefix + name)).string();
-    if (ReadMultimodalCache(path, key, &test_set->multimodal) &&
-        test_set->multimodal.num_windows() == test_set->num_windows()) {
-      return true;
+    try {
+      if (ReadMultimodalCache(path, key, &test_set->multimodal) &&
+          test_set->multimodal.num_windows() == test_set->num_windows()) {
+        return true;
+      }
+    } catch (const FormatError&) {
+      // A damaged cache is computed again and replaced.
     }
   }
   test_set->multimodal = ComputeMultimodalSets(last, test_set->pose_dims, threshold);
-  if (!path.empty()) WriteMultimodalCache(path, key, test_set->multimodal);
+  try {
+    if (!path.empty()) WriteMultimodalCache(path, key, test_set->multimodal);
+  } catch (const FormatError&) {
+    // An unwritable cache folder only costs the next run the computation (the dataset's own cache
+    // warns about the folder).
+  }
   return false;
 }
 

@@ -10,6 +10,13 @@ ImputeObjective ParseImputeObjective(const std::string& text) {
   return ParseEnumName(text, kImputeObjectiveNames, "impute objective");
 }
 
+ImputeOptions ImputeOverrides::Apply(ImputeOptions o) const {
+  if (steps >= 0) o.steps = steps;
+  if (learning_rate > 0) o.learning_rate = learning_rate;
+  if (!objective.empty()) o.objective = ParseImputeObjective(objective);
+  return o;
+}
+
 void ValidateHgvaeOptions(const HgvaeOptions& o, int num_coords) {
   auto fail = [](const std::string& m) { throw std::invalid_argument("hgvae model: " + m); };
   if (o.levels.empty() || o.levels.size() > 16) fail("levels: expected 1 to 16 levels");

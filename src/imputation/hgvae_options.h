@@ -68,6 +68,15 @@ struct ImputeOptions {
   ImputeObjective objective = ImputeObjective::kJoint;
 };
 
+// Command-line overrides of a bundle's ImputeOptions; unset fields (steps < 0, learning_rate <= 0,
+// objective "") keep the bundle's value.
+struct ImputeOverrides {
+  int steps = -1;
+  double learning_rate = 0;
+  std::string objective;  // "posterior" | "joint" | ""
+  ImputeOptions Apply(ImputeOptions o) const;
+};
+
 struct HgvaeTrainConfig {
   std::string path;
   std::string name;

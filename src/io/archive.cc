@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "io/file_util.h"
 
 namespace motionfork {
 
@@ -30,6 +31,10 @@ void ForEachArchiveFile(const std::string& archive_path,
                         const std::function<bool(const std::string&)>& want,
                         const std::function<void(const std::string&, std::string_view)>& visit,
                         const std::function<void(double)>& progress) {
+  // Regular files only: libarchive would wait forever on a FIFO.
+  if (const std::string problem = InputFileProblem(archive_path); !problem.empty()) {
+    throw FormatError(FormatMessage(archive_path, "", problem));
+  }
   std::error_code ec;
   const double total_bytes = static_cast<double>(std::filesystem::file_size(archive_path, ec));
   std::unique_ptr<struct archive, decltype(&archive_read_free)> a(archive_read_new(),

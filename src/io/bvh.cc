@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/skeleton.h"
 #include "io/file_util.h"
+#include "io/motion_limits.h"
 
 // Layout: the header (hierarchy, Frames, Frame Time) is small and read through a whitespace
 // tokenizer; the motion section, almost all of the bytes, is read by a scanner over the buffer
@@ -28,11 +29,10 @@ namespace motionfork {
 
 namespace {
 
-// Limits that keep a damaged or hostile file from costing unbounded memory or time. A human
-// skeleton has tens of joints; dense hand/face rigs a few hundred.
-constexpr int kMaxNodes = 1024;  // joints + End Sites
-// Output size cap: 2^28 floats = 1 GiB (an hour at 120 Hz of a 100-joint skeleton is ~0.5 GiB).
-constexpr uint64_t kMaxPositionValues = uint64_t{1} << 28;
+// Limits that keep a damaged or hostile file from costing unbounded memory or time
+// (io/motion_limits.h).
+constexpr int kMaxNodes = kMaxMotionJoints;  // joints + End Sites
+constexpr uint64_t kMaxPositionValues = kMaxMotionValues;
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 // Channel kinds; the value is the axis (0 = X, 1 = Y, 2 = Z) plus 3 for rotations.
@@ -611,6 +611,18 @@ Motion ReadBvhText(std::string_view text, const std::string& source_name,
   const int num_channels = h.total_channels;
   const int64_t num_frames = h.num_frames;
 
+  if (num_frames > kMaxMotionFrames) {
+    src.FailAt(h.frames_offset, "Frames: " + std::to_string(num_frames) +
+                                    " is above the limit of " + std::to_string(kMaxMotionFrames) +
+                                    " frames per motion");
+  }
+  if (num_channels == 0 && static_cast<uint64_t>(num_frames) > kMaxRestPoseValues / stride) {
+    src.FailAt(h.frames_offset,
+               "Frames: " + std::to_string(num_frames) +
+                   " frames without channels (no data in the file); expected at most " +
+                   std::to_string(kMaxRestPoseValues / stride) + " for " +
+                   std::to_string(num_joints) + " joints");
+  }
   if (static_cast<uint64_t>(num_frames) > kMaxPositionValues / stride) {
     src.FailAt(h.frames_offset, "Frames: " + std::to_string(num_frames) + " x " +
                                     std::to_string(num_joints) +
@@ -726,7 +738,15 @@ Motion ReadBvhText(std::string_view text, const std::string& source_name,
 }
 
 Motion ReadBvhFile(const std::string& path, const BvhOptions& options) {
-  const std::string bytes = ReadFileBytes(path);
+  // A file that does not start with HIERARCHY is refused from its first bytes (the parser's own
+  // message), before a large file is read whole.
+  const std::string bytes = ReadFileBytes(path, [&](std::string_view head) {
+    std::string_view t = head;
+    if (t.substr(0, 3) == "\xEF\xBB\xBF") t.remove_prefix(3);
+    while (!t.empty() && IsSpace(t.front())) t.remove_prefix(1);
+    if (t.size() < 9 || !EqualsNoCase(t.substr(0, 9), "HIERARCHY"))
+      ReadBvhText(head, path, options);
+  });
   return ReadBvhText(bytes, path, options);
 }
 

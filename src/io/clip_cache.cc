@@ -3,6 +3,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <new>
 
 #include "core/error.h"
 #include "io/file_util.h"
@@ -60,8 +61,19 @@ class Reader {
     return v;
   }
   bool AtEnd() const { return pos_ == b_.size(); }
-
- private:
+  // A count of items of at least min_bytes each, checked against the bytes left before anything
+  // is allocated for them.
+  uint32_t GetCount(size_t min_bytes, const char* what) {
+    const uint32_t n = Get<uint32_t>();
+    if (static_cast<uint64_t>(n) * min_bytes > b_.size() - pos_) {
+      throw FormatError(FormatMessage(path_, "byte " + std::to_string(pos_),
+                                      "corrupt cache: " + std::to_string(n) + " " + what +
+                                          " cannot fit in the " + std::to_string(b_.size() - pos_) +
+                                          " bytes left"));
+    }
+    return n;
+  }
+  // Throws when fewer than n bytes are left.
   void Need(size_t n, const char* what) {
     if (n > b_.size() - pos_) {
       throw FormatError(FormatMessage(path_, "byte " + std::to_string(pos_),
@@ -71,6 +83,8 @@ class Reader {
                                           " (delete the file to rebuild it)"));
     }
   }
+
+ private:
   const std::string& b_;
   const std::string& path_;
   size_t pos_ = 0;
@@ -138,12 +152,14 @@ bool ReadClipCache(const std::string& path, uint64_t key, std::vector<CachedClip
   for (size_t i = 0; i < sizeof(kMagic); ++i) r.Get<char>();
   if (r.Get<uint32_t>() != kVersion) return false;
   if (r.Get<uint64_t>() != key) return false;
-  std::vector<std::shared_ptr<const Skeleton>> skeletons(r.Get<uint32_t>());
+  // A skeleton is at least a name and a joint count, a clip four names and three numbers.
+  std::vector<std::shared_ptr<const Skeleton>> skeletons(r.GetCount(8, "skeletons"));
   try {
     for (auto& s : skeletons) {
       std::string name = r.GetString();
       const uint32_t J = r.Get<uint32_t>();
       if (J == 0 || J > 100000) throw std::invalid_argument("bad joint count " + std::to_string(J));
+      r.Need(static_cast<size_t>(J) * 8, "joint names and parents");
       std::vector<std::string> names(J);
       std::vector<int> parents(J);
       for (uint32_t j = 0; j < J; ++j) {
@@ -152,7 +168,7 @@ bool ReadClipCache(const std::string& path, uint64_t key, std::vector<CachedClip
       }
       s = std::make_shared<const Skeleton>(Skeleton::FromParents(name, names, parents));
     }
-    const uint32_t n = r.Get<uint32_t>();
+    const uint32_t n = r.GetCount(32, "clips");
     clips->reserve(n);
     for (uint32_t c = 0; c < n; ++c) {
       CachedClip clip;
@@ -172,6 +188,8 @@ bool ReadClipCache(const std::string& path, uint64_t key, std::vector<CachedClip
   } catch (const std::invalid_argument& e) {
     throw FormatError(FormatMessage(
         path, "", std::string("corrupt cache (") + e.what() + "); delete the file to rebuild it"));
+  } catch (const std::bad_alloc&) {
+    throw FormatError(FormatMessage(path, "", "corrupt cache (out of memory reading it)"));
   }
   if (!r.AtEnd()) throw FormatError(FormatMessage(path, "", "corrupt cache: trailing bytes"));
   return true;

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "io/file_util.h"
+#include "io/motion_limits.h"
 
 namespace motionfork {
 
@@ -19,24 +20,31 @@ namespace {
 
 struct Line {
   std::string_view text;  // without the line break (LF or CRLF)
-  int number;             // 1-based
+  int64_t number = 0;     // 1-based
 };
 
-std::vector<Line> SplitLines(std::string_view bytes) {
-  std::vector<Line> lines;
-  int number = 1;
-  size_t begin = 0;
-  while (begin < bytes.size()) {
-    size_t end = bytes.find('\n', begin);
-    const size_t next = end == std::string_view::npos ? bytes.size() : end + 1;
-    if (end == std::string_view::npos) end = bytes.size();
-    std::string_view text = bytes.substr(begin, end - begin);
+// The lines of a buffer one at a time: memory stays constant however many lines there are.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view bytes) : bytes_(bytes) {}
+  // The next line into *line; false at the end of the buffer.
+  bool Next(Line* line) {
+    if (begin_ >= bytes_.size()) return false;
+    size_t end = bytes_.find('\n', begin_);
+    const size_t next = end == std::string_view::npos ? bytes_.size() : end + 1;
+    if (end == std::string_view::npos) end = bytes_.size();
+    std::string_view text = bytes_.substr(begin_, end - begin_);
     if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
-    lines.push_back({text, number++});
-    begin = next;
+    *line = {text, ++number_};
+    begin_ = next;
+    return true;
   }
-  return lines;
-}
+
+ private:
+  std::string_view bytes_;
+  size_t begin_ = 0;
+  int64_t number_ = 0;
+};
 
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -70,7 +78,7 @@ std::string Quote(std::string_view s) {
   return out + "'";
 }
 
-std::string LineLocation(int line) { return "line " + std::to_string(line); }
+std::string LineLocation(int64_t line) { return "line " + std::to_string(line); }
 
 std::string JoinNames(const std::vector<std::string>& names) {
   std::string out;
@@ -183,6 +191,12 @@ std::vector<Column> MapColumns(const ParsedHeader& header, const Line& line,
   }
 
   const int num_joints = *skeleton ? (*skeleton)->num_joints() : static_cast<int>(order.size());
+  if (num_joints > kMaxMotionJoints) {
+    throw FormatError(FormatMessage(source, where,
+                                    "the header names " + std::to_string(num_joints) +
+                                        " joints; expected at most " +
+                                        std::to_string(kMaxMotionJoints) + " per motion"));
+  }
   const auto& joint_names = *skeleton ? (*skeleton)->joint_names() : order;
   std::vector<int> seen(static_cast<size_t>(num_joints) * 3, 0);
   for (size_t c = 0; c < columns.size(); ++c) {
@@ -287,23 +301,23 @@ Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
                       std::vector<uint8_t>* missing) {
   if (missing) missing->clear();
   if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);  // UTF-8 byte order mark
-  const std::vector<Line> lines = SplitLines(bytes);
+  LineCursor lines(bytes);
   Metadata meta;
-  size_t i = 0;
-  for (; i < lines.size(); ++i) {
-    const std::string_view t = Trim(lines[i].text);
+  Line header_line;
+  bool found_header = false;
+  while (!found_header && lines.Next(&header_line)) {
+    const std::string_view t = Trim(header_line.text);
     if (t.empty()) continue;
-    if (t.front() != '#') break;
-    ParseComment(lines[i], source, &meta);
+    if (t.front() != '#') found_header = true;
+    if (!found_header) ParseComment(header_line, source, &meta);
   }
-  if (i == lines.size()) {
+  if (!found_header) {
     throw FormatError(FormatMessage(
         source, "",
         std::string(bytes.empty() ? "empty file" : "no header line") +
             ": expected a header of <joint>.x,<joint>.y,<joint>.z columns, then one row per "
             "frame"));
   }
-  const Line& header_line = lines[i++];
   const ParsedHeader header = ParseHeader(header_line, source);
   const std::vector<Column> columns =
       MapColumns(header, header_line, source, meta.skeleton_name, &skeleton);
@@ -312,8 +326,8 @@ Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
   std::vector<float> positions;
   std::vector<std::string_view> fields;
   size_t frames = 0;
-  for (; i < lines.size(); ++i) {
-    const Line& line = lines[i];
+  Line line;
+  while (lines.Next(&line)) {
     const std::string_view t = Trim(line.text);
     if (t.empty() || t.front() == '#') continue;
     SplitFields(line.text, ',', &fields);
@@ -322,6 +336,11 @@ Motion ParseCsvMotion(std::string_view bytes, const std::string& source,
           source, LineLocation(line.number),
           "expected " + std::to_string(columns.size()) + " columns (as in the header on line " +
               std::to_string(header_line.number) + "), found " + std::to_string(fields.size())));
+    }
+    if (static_cast<int64_t>(frames) >= kMaxMotionFrames) {
+      throw FormatError(FormatMessage(
+          source, LineLocation(line.number),
+          "more than " + std::to_string(kMaxMotionFrames) + " frames, the limit per motion"));
     }
     positions.resize(positions.size() + per_frame);
     if (missing) missing->resize(positions.size(), 0);
@@ -383,7 +402,8 @@ void AppendNumber(std::string* out, float value) {
 
 Motion ReadCsvMotion(const std::string& path, std::shared_ptr<const Skeleton> skeleton, double fps,
                      std::vector<uint8_t>* missing) {
-  return ParseCsvMotion(ReadFileBytes(path), path, std::move(skeleton), fps, missing);
+  const std::string bytes = ReadFileBytes(path, RequireTextHead(path, "a CSV text file"));
+  return ParseCsvMotion(bytes, path, std::move(skeleton), fps, missing);
 }
 
 void WriteCsvMotion(const std::string& path, const Motion& motion) {

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "io/file_util.h"
+#include "io/motion_limits.h"
 
 namespace motionfork {
 
@@ -273,15 +274,19 @@ T LoadLittleEndian(const char* p) {
   return value;
 }
 
-}  // namespace
-
-NpyArray ParseNpy(std::string_view bytes, const std::string& source_name, bool allow_nan) {
-  const std::string& src = source_name;
+void RequireNpyMagic(std::string_view bytes, const std::string& src) {
   if (bytes.size() < kMagicLen + 2 ||
       bytes.substr(0, kMagicLen) != std::string_view(kMagic, kMagicLen)) {
     throw FormatError(FormatMessage(
         src, "", "not a NumPy .npy file: expected the magic bytes \\x93NUMPY at the start"));
   }
+}
+
+}  // namespace
+
+NpyArray ParseNpy(std::string_view bytes, const std::string& source_name, bool allow_nan) {
+  const std::string& src = source_name;
+  RequireNpyMagic(bytes, src);
   const int major = static_cast<unsigned char>(bytes[6]);
   const int minor = static_cast<unsigned char>(bytes[7]);
   if ((major != 1 && major != 2 && major != 3) || minor != 0) {
@@ -413,7 +418,9 @@ NpyArray ParseNpy(std::string_view bytes, const std::string& source_name, bool a
 }
 
 NpyArray ReadNpy(const std::string& path, bool allow_nan) {
-  return ParseNpy(ReadFileBytes(path), path, allow_nan);
+  const std::string bytes =
+      ReadFileBytes(path, [&path](std::string_view head) { RequireNpyMagic(head, path); });
+  return ParseNpy(bytes, path, allow_nan);
 }
 
 std::string SerializeNpy(const NpyArray& array) {
@@ -494,8 +501,12 @@ Motion ReadNpyMotion(const std::string& path, std::shared_ptr<const Skeleton> sk
         path, "",
         "expected at least 1 frame and 1 joint, found shape " + ShapeString(array.shape)));
   }
-  if (frames > std::numeric_limits<int>::max() || joints > std::numeric_limits<int>::max()) {
-    throw FormatError(FormatMessage(path, "", "shape " + ShapeString(array.shape) + " too large"));
+  if (frames > kMaxMotionFrames || joints > kMaxMotionJoints) {
+    throw FormatError(FormatMessage(path, "",
+                                    "shape " + ShapeString(array.shape) +
+                                        " is above the limits of " +
+                                        std::to_string(kMaxMotionFrames) + " frames and " +
+                                        std::to_string(kMaxMotionJoints) + " joints per motion"));
   }
   if (!skeleton) {
     skeleton = std::make_shared<const Skeleton>(Skeleton::Anonymous(static_cast<int>(joints)));

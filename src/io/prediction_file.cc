@@ -114,10 +114,20 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   NpyArray arr;
   arr.shape = {p.k, T, J, 3};
   arr.data = p.positions;
-  WriteNpy(base + ".npy", arr);
-  WriteFileAtomically(base + ".json", j.dump(2) + "\n");
+  // Both files or neither: a reader never finds a new array beside an old description.
+  const std::filesystem::path b(base);
+  WriteFileSet(b.parent_path().string(),
+               {{b.filename().string() + ".npy", SerializeNpy(arr)},
+                {b.filename().string() + ".json",
+                 j.dump(2, ' ', false, json::error_handler_t::replace) + "\n"}});
   return base;
 }
+
+namespace {
+
+Prediction ParsePrediction(const json& j, const std::string& base, const std::string& json_path);
+
+}  // namespace
 
 Prediction ReadPrediction(const std::string& path) {
   const std::string base = StripExtension(path);
@@ -134,6 +144,20 @@ Prediction ReadPrediction(const std::string& path) {
     throw FormatError(FormatMessage(json_path, "byte " + std::to_string(e.byte), "invalid JSON"));
   }
   if (!j.is_object()) throw FormatError(FormatMessage(json_path, "", "expected a JSON object"));
+  try {
+    return ParsePrediction(j, base, json_path);
+  } catch (const json::exception& e) {
+    // A value of the wrong type where the reader does not check it key by key.
+    std::string what = e.what();  // "[json.exception.type_error.302] type must be ..."
+    if (const size_t close = what.find("] "); !what.empty() && what[0] == '[' && close != what.npos)
+      what = what.substr(close + 2);
+    throw FormatError(FormatMessage(json_path, "", "unexpected content: " + what));
+  }
+}
+
+namespace {
+
+Prediction ParsePrediction(const json& j, const std::string& base, const std::string& json_path) {
   Prediction p;
   p.model = j.value("model", "");
   p.protocol = j.value("protocol", "");
@@ -217,6 +241,8 @@ Prediction ReadPrediction(const std::string& path) {
   p.positions = std::move(arr.data);
   return p;
 }
+
+}  // namespace
 
 bool IsPredictionPath(const std::string& path) {
   const std::filesystem::path p(path);

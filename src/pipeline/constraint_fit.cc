@@ -122,6 +122,7 @@ ConstraintFit FitConstraints(const ConstraintFitRequest& o) {
                             ReportProgress(o.progress, "loading " + f.protocol.name, p.fraction,
                                            p.detail);
                           }};
+  load.warning = [&](const std::string& w) { ReportWarning(o.progress, w); };
   const Dataset ds = LoadDataset(f.protocol, skeleton, o.data, load);
   const std::vector<int> train = ds.ClipIndices(Split::kTrain), test = ds.ClipIndices(Split::kTest);
   if (train.empty()) {

@@ -119,6 +119,7 @@ Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
 }
 
 Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
+  ValidateForecastRequest(files.request);  // before any bundle is read
   const Forecaster model = LoadForecaster(files.model_dir);
   const ModelConfig& mc = model.config();
   if (files.imputer_dir.empty() && !files.masks.empty())

@@ -39,7 +39,7 @@ struct HistoryInput {
 // J, 3] metres in Prediction::positions), with the validity of every future and of the history
 // when `validator` judges anything. Prediction::model is `model_dir`. Throws FormatError naming the
 // history when it is too short or has missing values and no imputer, std::invalid_argument for a
-// bad request (unknown part, k < 1).
+// bad request (unknown part, k outside 1..kMaxFutures).
 Prediction PredictFutures(const Forecaster& forecaster, const std::string& model_dir,
                           const PoseValidator& validator, HistoryInput history,
                           const ForecastRequest& request, const HistoryRepair& repair = {});

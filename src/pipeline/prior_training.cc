@@ -57,6 +57,7 @@ PriorTrainingRun TrainPriorBundle(const PriorTrainingRequest& o,
                             ReportProgress(callbacks.loading, "loading " + protocol.name,
                                            p.fraction, p.detail);
                           }};
+  load.warning = [&](const std::string& w) { ReportWarning(callbacks.loading, w); };
   const PriorData data =
       MakePriorData(LoadDataset(protocol, skeleton, o.data, load), config.training);
   PosePrior prior(skeleton.skeleton, config);

@@ -4,22 +4,13 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/file_util.h"
+
 namespace motionfork {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// Temporary file + rename (torch_util does not depend on io/).
-void WriteAtomically(const fs::path& path, const std::string& bytes) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << bytes;
-    if (!out.flush()) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
-}
 
 template <typename T>
 std::string Serialize(T& obj) {
@@ -40,20 +31,21 @@ void Deserialize(T& obj, const fs::path& path) {
 }  // namespace
 
 void SaveCheckpoint(const std::string& dir, const std::string& weights_name,
-                    torch::nn::Module& module, torch::optim::Optimizer& optimizer,
-                    int epochs_done) {
-  const fs::path d(dir);
-  fs::create_directories(d);
-  WriteAtomically(d / weights_name, Serialize(module));
-  WriteAtomically(d / "optimizer.pt", Serialize(optimizer));
+                    torch::nn::Module& module, torch::optim::Optimizer& optimizer, int epochs_done,
+                    const std::vector<std::pair<std::string, std::string>>& extra_files) {
   std::ostringstream state;
   torch::save(torch::tensor(static_cast<int64_t>(epochs_done)), state);
-  WriteAtomically(d / "state.pt", state.str());
+  std::vector<NamedBytes> files = {{weights_name, Serialize(module)},
+                                   {"optimizer.pt", Serialize(optimizer)},
+                                   {"state.pt", state.str()}};
+  for (const auto& [name, bytes] : extra_files) files.push_back({name, bytes});
+  WriteFileSet(dir, files);
 }
 
 int LoadCheckpoint(const std::string& dir, const std::string& weights_name,
                    torch::nn::Module& module, torch::optim::Optimizer& optimizer) {
   const fs::path d(dir);
+  RecoverFileSets(dir);
   if (!fs::is_regular_file(d / "state.pt")) return 0;
   torch::Tensor epochs;
   torch::load(epochs, (d / "state.pt").string());

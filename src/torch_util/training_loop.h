@@ -15,15 +15,23 @@
 namespace motionfork {
 
 // Creates ckpt_dir and loads the checkpoint in it into module and optimizer (checkpoint.h): the
-// epochs it had done, 0 when there is none (a fresh start).
+// epochs it had done, 0 when there is none (a fresh start). The epoch log (AppendEpochLog) is cut
+// back to those epochs: a run killed between an epoch's log row and its checkpoint leaves no row
+// without its checkpoint.
 int ResumeFromCheckpoint(const std::filesystem::path& ckpt_dir, const std::string& weights_name,
-                         torch::nn::Module& module, torch::optim::Optimizer& optimizer);
+                         torch::nn::Module& module, torch::optim::Optimizer& optimizer,
+                         const std::filesystem::path& epoch_log);
 
 // ResumeFromCheckpoint, telling `message` (when set) "resuming from <ckpt_dir> after epoch <N>"
 // when there was a checkpoint.
 int ResumeTraining(const std::filesystem::path& ckpt_dir, const std::string& weights_name,
                    torch::nn::Module& module, torch::optim::Optimizer& optimizer,
+                   const std::filesystem::path& epoch_log,
                    const std::function<void(const std::string&)>& message);
+
+// Keeps the header and the rows of epochs 1..epochs_done of an epoch log (all-or-nothing); nothing
+// happens when the file does not exist.
+void TrimEpochLog(const std::filesystem::path& file, int epochs_done);
 
 // Gradients cleared, loss back-propagated, the gradient norm over params clipped to grad_clip, one
 // step of optimizer.

@@ -280,7 +280,8 @@ TEST_CASE("Model: errors say what was expected and what was found") {
   CHECK_THROWS_WITH(model.Predict(nan), Contains("frame 9") && Contains("LowerLeg_R"));
   CHECK_THROWS_WITH(model.Predict(h, {3, 0, {"tail"}}),
                     Contains("no body part 'tail'") && Contains("legs, upper"));
-  CHECK_THROWS_WITH(model.Predict(h, {0, 0, {}}), Contains("k >= 1") && Contains("got 0"));
+  CHECK_THROWS_WITH(model.Predict(h, {0, 0, {}}),
+                    Contains("1..10000 futures") && Contains("got 0"));
 
   Futures f = model.Predict(h, {2, 0, {}});
   f.positions.pop_back();

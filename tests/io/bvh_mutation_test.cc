@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <random>
 #include <string>
@@ -13,6 +15,8 @@
 
 #include "core/error.h"
 #include "io/bvh.h"
+#include "memory_limit.h"
+#include "test_support.h"
 
 namespace motionfork {
 namespace {
@@ -239,6 +243,45 @@ TEST_CASE("bvh: mutated files either read cleanly or throw FormatError", "[io][b
               format_errors, seconds);
   CHECK(ok > 100);  // some mutations are harmless (e.g. digit changes inside numbers)
   CHECK(format_errors > 1000);
+}
+
+// Files that claim far more than they hold: each is refused (FormatError naming the limit or the
+// missing bytes) in a process capped at 1 GiB, before anything is allocated for the claim.
+TEST_CASE("bvh: size claims are checked against the bytes present, in 1 GiB",
+          "[io][bvh][fuzz][memory]") {
+  const std::string no_channels =  // 81 bytes claiming 89 million frames of the rest pose
+      "HIERARCHY\nROOT R\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\nMOTION\nFrames: 89000000\n"
+      "Frame Time: 0.1\n";
+  REQUIRE(no_channels.size() < 90);
+  std::string header =
+      MakeValidBvh({"Xposition", "Yposition", "Zposition"}, {"Zrotation"}, 1, "0.0333333", "\n", 4);
+  header.resize(header.find("Frames:"));
+  const std::vector<std::pair<std::string, std::string>> claims = {
+      {no_channels, "limit of 10000000 frames"},
+      {no_channels.substr(0, no_channels.find("89000000")) + "9000000\nFrame Time: 0.1\n",
+       "without channels"},
+      {header + "Frames: 9999999\nFrame Time: 0.03\n1 2 3 4 5 6 7 8 9\n", "ends after 1"},
+      {header + "Frames: 999999999999\nFrame Time: 0.03\n", "limit of 10000000 frames"},
+  };
+  for (const auto& [text, phrase] : claims) {
+    testing::TempDir dir;
+    const std::string path = dir.file("claim.bvh");
+    std::ofstream(path, std::ios::binary) << text;
+    const testing::LimitedRun r = testing::RunWithMemoryLimit([&] { ReadBvhFile(path); });
+    INFO(text << "\n-> " << r.message);
+    CHECK(r.outcome == testing::LimitedOutcome::kFormatError);
+    CHECK_THAT(r.message, Catch::Contains(phrase));
+  }
+  // A 600 MB sparse file (zeros) is refused from its first bytes, not read whole.
+  testing::TempDir dir;
+  const std::string sparse = dir.file("sparse.bvh");
+  std::ofstream(sparse, std::ios::binary).put('\0');
+  std::filesystem::resize_file(sparse, uint64_t{600} << 20);
+  const testing::LimitedRun r =
+      testing::RunWithMemoryLimit([&] { ReadBvhFile(sparse); }, rlim_t{256} << 20);
+  INFO(r.message);
+  CHECK(r.outcome == testing::LimitedOutcome::kFormatError);
+  CHECK_THAT(r.message, Catch::Contains("expected 'HIERARCHY'"));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -16,6 +17,7 @@
 #include "core/error.h"
 #include "io/csv.h"
 #include "io/npy.h"
+#include "memory_limit.h"
 #include "test_support.h"
 
 namespace motionfork {
@@ -169,6 +171,64 @@ TEST_CASE("mutation: corrupted CSV bytes give finite data or FormatError", "[io]
   CHECK(ok > 0);
   CHECK(rejected > 0);
   CHECK(seconds < 20.0);
+}
+
+}  // namespace
+}  // namespace motionfork
+
+namespace motionfork {
+namespace {
+
+// Files that claim far more than they hold, or hold nothing but line breaks: each is refused
+// (FormatError) in a process capped at 1 GiB, with memory proportional to its bytes.
+TEST_CASE("mutation: .npy and CSV size claims are checked before allocating, in 1 GiB",
+          "[io][npy][csv][mutation][memory]") {
+  TempDir dir;
+  // A header claiming a billion frames over 12 bytes of data.
+  NpyArray small;
+  small.shape = {1, 1, 3};
+  small.data = {1, 2, 3};
+  std::string npy = SerializeNpy(small);
+  // The same header length: 9 padding spaces before the header's final '\n' make room.
+  const size_t data_begin =
+      10 + (static_cast<unsigned char>(npy[8]) | (static_cast<unsigned char>(npy[9]) << 8));
+  REQUIRE(npy.substr(data_begin - 10, 9) == std::string(9, ' '));
+  npy.erase(data_begin - 10, 9);
+  const size_t shape_at = npy.find("(1, 1, 3)");
+  REQUIRE(shape_at != std::string::npos);
+  npy.replace(shape_at, 9, "(1000000000, 1, 3)");
+  REQUIRE_NOTHROW(ParseNpy(SerializeNpy(small), "small.npy"));
+  const std::string claim = dir.file("claim.npy");
+  std::ofstream(claim, std::ios::binary) << npy;
+  testing::LimitedRun r = testing::RunWithMemoryLimit([&] { ReadNpyMotion(claim, nullptr, 30); });
+  INFO(r.message);
+  CHECK(r.outcome == testing::LimitedOutcome::kFormatError);
+  CHECK_THAT(r.message, Catch::Contains("expected"));
+
+  // 50 MB of blank lines: no header, and no memory per line.
+  const std::string blank = dir.file("blank.csv");
+  std::ofstream(blank, std::ios::binary) << std::string(50u << 20, '\n');
+  r = testing::RunWithMemoryLimit([&] { ReadCsvMotion(blank, nullptr, 30); }, rlim_t{512} << 20);
+  INFO(r.message);
+  CHECK(r.outcome == testing::LimitedOutcome::kFormatError);
+  CHECK_THAT(r.message, Catch::Contains("no header line"));
+
+  // A header naming more joints than a motion may have.
+  std::string wide;
+  for (int j = 0; j < 1100; ++j) wide += std::string(j ? "," : "") + "j" + std::to_string(j) + ".x";
+  const std::string wide_csv = dir.file("wide.csv");
+  std::ofstream(wide_csv, std::ios::binary) << wide << "\n";
+  r = testing::RunWithMemoryLimit([&] { ReadCsvMotion(wide_csv, nullptr, 30); });
+  CHECK(r.outcome == testing::LimitedOutcome::kFormatError);
+
+  // A 600 MB sparse file (zeros) given as a CSV is refused from its first bytes.
+  const std::string sparse = dir.file("sparse.csv");
+  std::ofstream(sparse, std::ios::binary).put('\0');
+  std::filesystem::resize_file(sparse, uint64_t{600} << 20);
+  r = testing::RunWithMemoryLimit([&] { ReadCsvMotion(sparse, nullptr, 30); }, rlim_t{256} << 20);
+  INFO(r.message);
+  CHECK(r.outcome == testing::LimitedOutcome::kFormatError);
+  CHECK_THAT(r.message, Catch::Contains("binary data"));
 }
 
 }  // namespace

@@ -17,7 +17,6 @@
 #include "dataset/windows.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
-#include "io/file_util.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/threads.h"
 #include "torch_util/training_loop.h"
@@ -145,7 +144,7 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
   DvaeTrainSummary summary;
-  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, cb.message);
+  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
   const std::vector<int> frames = ClipFrames(data.train, F);
   const WindowBatch held = HeldOutBatch(data, W, t.held_out_windows);
   const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
@@ -230,7 +229,7 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
 
   const fs::path out(out_dir), ckpt = out / "checkpoint", state = ckpt / "finetune_best.txt";
   DvaeTrainSummary summary;
-  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, cb.message);
+  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
   double best = INFINITY;
   int bad_epochs = 0;
   if (summary.first_epoch > 0) {
@@ -317,8 +316,8 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
     std::ostringstream st;
     st.precision(17);
     st << best << " " << bad_epochs << "\n";
-    WriteFileAtomically(state.string(), st.str());
-    SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1);
+    SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1,
+                   {{state.filename().string(), st.str()}});
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }

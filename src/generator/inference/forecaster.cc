@@ -52,6 +52,13 @@ Forecaster::Forecaster(Forecaster&&) noexcept = default;
 Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
 
 const ModelConfig& Forecaster::config() const { return impl_->config; }
+void ValidateForecastRequest(const ForecastRequest& request) {
+  if (request.k < 1 || request.k > kMaxFutures) {
+    throw std::invalid_argument("expected 1.." + std::to_string(kMaxFutures) +
+                                " futures per history (k), got " + std::to_string(request.k));
+  }
+}
+
 const std::shared_ptr<const Skeleton>& Forecaster::skeleton() const { return impl_->skeleton; }
 const PartPlan& Forecaster::parts() const { return impl_->parts; }
 bool Forecaster::repairs() const { return impl_->repair != nullptr; }
@@ -61,9 +68,7 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
                                                    const ForecastRequest& request) const {
   const GeneratorOptions& g = impl_->config.generator;
   const int64_t N = g.num_nodes;
-  if (request.k < 1)
-    throw std::invalid_argument("Predict: expected k >= 1 futures, got " +
-                                std::to_string(request.k));
+  ValidateForecastRequest(request);
   if (num_histories < 1 ||
       histories.size() != static_cast<size_t>(num_histories) * g.t_his * N * 3) {
     throw std::invalid_argument("Predict: expected histories [" + std::to_string(num_histories) +

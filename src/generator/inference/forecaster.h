@@ -19,8 +19,12 @@ namespace motionfork {
 
 class GeneratorNetImpl;  // generator/model/generator_net.h (LibTorch)
 
+// Futures per history at most: every future is kept in memory (with its pose checks, ~12 KB each
+// for the Bandai model), so K is bounded before anything is allocated.
+constexpr int kMaxFutures = 10000;
+
 struct ForecastRequest {
-  int k = 50;                            // futures per history
+  int k = 50;                            // futures per history, 1..kMaxFutures
   uint64_t seed = 0;                     // same seed, same futures
   std::vector<std::string> fixed_parts;  // parts whose latent is shared by all K futures
   // Move predicted poses that break the angle ranges (the bundle's constraints.yaml, when it has
@@ -28,6 +32,10 @@ struct ForecastRequest {
   // output.
   bool repair = true;
 };
+
+// Throws std::invalid_argument "expected 1..10000 futures per history (k), got K" for k outside
+// 1..kMaxFutures.
+void ValidateForecastRequest(const ForecastRequest& request);
 
 struct Forecast {
   int k = 0, t_his = 0, t_pred = 0, joints = 0;

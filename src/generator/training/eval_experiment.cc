@@ -174,6 +174,7 @@ void LoadTestClips(const EvalExperimentOptions& o, const ProtocolOptions& protoc
   };
   if (!o.data.empty()) {
     DatasetLoadOptions load{o.cache_dir, o.split_file, relay("loading " + protocol.name)};
+    load.warning = [&o](const std::string& w) { ReportWarning(o.progress, w); };
     out->dataset = LoadDataset(protocol, skeleton, o.data, load);
   }
   if (!o.clips.empty()) {

@@ -77,7 +77,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
   TrainSummary summary;
-  summary.first_epoch = ResumeFromCheckpoint(ckpt, "generator.pt", *net, adam);
+  summary.first_epoch = ResumeFromCheckpoint(ckpt, "generator.pt", *net, adam, out / "log.csv");
   if (summary.first_epoch > 0 && cb.message) {
     cb.message("resuming from " + ckpt.string() + " at epoch " +
                std::to_string(summary.first_epoch + 1));

@@ -85,6 +85,38 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
   return out;
 }
 
+// The pseudo multimodal futures of `windows` windows from a cache file: false when there is none,
+// it is for other windows or it is damaged (then it is computed again and replaced).
+bool ReadTrainingMultimodalCache(const std::string& cache, size_t windows,
+                                 std::vector<std::vector<int32_t>>* multimodal) {
+  if (!fs::is_regular_file(cache)) return false;
+  try {
+    const std::string bytes = ReadFileBytes(cache);
+    size_t pos = 0;
+    auto get = [&](void* dst, size_t n) {
+      if (n > bytes.size() - pos)
+        throw FormatError(FormatMessage(cache, "", "truncated cache; delete it"));
+      std::memcpy(dst, bytes.data() + pos, n);
+      pos += n;
+    };
+    uint32_t count = 0;
+    get(&count, 4);
+    if (count != windows) return false;
+    multimodal->resize(count);
+    for (auto& m : *multimodal) {
+      uint32_t n = 0;
+      get(&n, 4);
+      if (static_cast<uint64_t>(n) * 4 > bytes.size() - pos) return false;  // damaged
+      m.resize(n);
+      get(m.data(), n * 4);
+    }
+    return true;
+  } catch (const FormatError&) {
+    multimodal->clear();
+    return false;
+  }
+}
+
 }  // namespace
 
 TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
@@ -121,27 +153,8 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   char name[64];
   std::snprintf(name, sizeof(name), "multimodal-%016llx.bin", static_cast<unsigned long long>(h));
   const std::string cache = cache_dir.empty() ? "" : (fs::path(cache_dir) / name).string();
-  if (!cache.empty() && fs::is_regular_file(cache)) {
-    const std::string bytes = ReadFileBytes(cache);
-    size_t pos = 0;
-    auto get = [&](void* dst, size_t n) {
-      if (pos + n > bytes.size())
-        throw FormatError(FormatMessage(cache, "", "truncated cache; delete it"));
-      std::memcpy(dst, bytes.data() + pos, n);
-      pos += n;
-    };
-    uint32_t count = 0;
-    get(&count, 4);
-    if (count == tw.windows.size()) {
-      tw.multimodal.resize(count);
-      for (auto& m : tw.multimodal) {
-        uint32_t n = 0;
-        get(&n, 4);
-        m.resize(n);
-        get(m.data(), n * 4);
-      }
-      return tw;
-    }
+  if (!cache.empty() && ReadTrainingMultimodalCache(cache, tw.windows.size(), &tw.multimodal)) {
+    return tw;
   }
   tw.multimodal = ComputeMultimodal(tw, options, progress);
   if (!cache.empty()) {
@@ -154,7 +167,11 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
       put(&n, 4);
       put(m.data(), n * 4);
     }
-    WriteFileAtomically(cache, bytes);
+    try {
+      WriteFileAtomically(cache, bytes);
+    } catch (const FormatError&) {
+      // An unwritable cache folder only costs the next run the computation.
+    }
   }
   return tw;
 }

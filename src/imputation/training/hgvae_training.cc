@@ -127,7 +127,7 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
   HgvaeTrainSummary summary;
-  summary.first_epoch = ResumeTraining(ckpt, "hgvae.pt", *net, adam, cb.message);
+  summary.first_epoch = ResumeTraining(ckpt, "hgvae.pt", *net, adam, out / "log.csv", cb.message);
   std::vector<int> frames;
   for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
   const std::vector<float> held = HeldOutWindows(data.held_out, T, N, t.held_out_windows);
