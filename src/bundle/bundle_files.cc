@@ -44,6 +44,18 @@ void WriteBundle(const std::string& dir, const std::vector<BundleFile>& files,
                  const std::function<std::string(const BundleChecksums&)>& manifest) {
   const fs::path target = fs::absolute(fs::path(dir)).lexically_normal();
   const fs::path base = target.has_filename() ? target : target.parent_path();
+  std::vector<NamedBytes> set;
+  BundleChecksums sums;
+  for (const BundleFile& f : files) {
+    set.push_back({f.name, f.bytes});
+    sums[f.name] = BundleChecksum(f.bytes);
+  }
+  set.push_back({manifest_name, manifest(sums)});
+  if (fs::exists(base)) {  // replace the bundle's files as one set; the folder's others stay
+    WriteFileSet(base.string(), set);
+    return;
+  }
+  // A new bundle: the whole folder written aside, then renamed into place.
   const fs::path temp =
       base.parent_path() / ("." + base.filename().string() + ".tmp-" + std::to_string(getpid()));
   std::error_code ec;
@@ -51,20 +63,9 @@ void WriteBundle(const std::string& dir, const std::vector<BundleFile>& files,
   fs::create_directories(temp, ec);
   if (ec) Fail(temp.string(), "cannot create the bundle's temporary folder: " + ec.message());
   try {
-    BundleChecksums sums;
-    for (const BundleFile& f : files) {
-      WriteFileAtomically((temp / f.name).string(), f.bytes);
-      sums[f.name] = BundleChecksum(f.bytes);
-    }
-    WriteFileAtomically((temp / manifest_name).string(), manifest(sums));
-    if (!fs::exists(base)) {
-      fs::create_directories(base.parent_path(), ec);
-      Rename(temp, base);
-      return;
-    }
-    for (const BundleFile& f : files) Rename(temp / f.name, base / f.name);
-    Rename(temp / manifest_name, base / manifest_name);
-    fs::remove_all(temp, ec);
+    for (const NamedBytes& f : set) WriteFileAtomically((temp / f.name).string(), f.bytes);
+    fs::create_directories(base.parent_path(), ec);
+    Rename(temp, base);
   } catch (...) {
     fs::remove_all(temp, ec);
     throw;

@@ -28,10 +28,10 @@ using BundleChecksums = std::map<std::string, std::string>;
 std::string BundleChecksum(std::string_view bytes);
 
 // Writes `files` and the manifest `manifest_name`, whose text `manifest` makes from the files'
-// checksums, into dir, all-or-nothing: everything goes into a temporary sibling folder first, then
-// is renamed into place (the whole folder when dir does not exist yet; otherwise file by file,
-// the manifest last, so the other files of dir - checkpoint/, prior/, constraints.yaml - stay and a
-// reader never sees a manifest without its files). Throws FormatError naming what failed.
+// checksums, into dir, all-or-nothing: a new bundle is written in a temporary sibling folder and
+// renamed into place; an existing one has its files replaced as one set (io/file_util.h
+// WriteFileSet: the other files of dir - checkpoint/, prior/, constraints.yaml - stay, a failed or
+// killed write is rolled back). Throws FormatError naming what failed.
 void WriteBundle(const std::string& dir, const std::vector<BundleFile>& files,
                  const std::string& manifest_name,
                  const std::function<std::string(const BundleChecksums&)>& manifest);
