@@ -20,21 +20,6 @@ std::string ConfigDir(const std::string& flag_value) {
   return MOTIONFORK_CONFIG_DIR;
 }
 
-std::string CacheDir(const std::string& flag_value) {
-  if (flag_value == "none") return "";
-  if (!flag_value.empty()) return flag_value;
-  if (const char* env = std::getenv("MOTIONFORK_CACHE_DIR"); env && *env) {
-    return std::string(env) == "none" ? "" : env;
-  }
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) {
-    return (std::filesystem::path(xdg) / "motionfork").string();
-  }
-  if (const char* home = std::getenv("HOME"); home && *home) {
-    return (std::filesystem::path(home) / ".cache" / "motionfork").string();
-  }
-  return (std::filesystem::temp_directory_path() / "motionfork-cache").string();
-}
-
 ProgressBar::ProgressBar(std::string label, bool enabled)
     : label_(std::move(label)),
       enabled_(enabled),

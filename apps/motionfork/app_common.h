@@ -11,6 +11,7 @@
 
 #include "core/progress.h"
 #include "core/text_format.h"
+#include "io/cache_dir.h"  // CacheDir: --cache-dir, else the environment's
 
 namespace motionfork::app {
 
@@ -21,10 +22,6 @@ constexpr int kExitBadInput = 2;
 // --config-dir, else $MOTIONFORK_CONFIG_DIR, else the source tree's configs/ when it exists, else
 // the installed configs (<prefix>/share/motionfork/configs).
 std::string ConfigDir(const std::string& flag_value);
-
-// --cache-dir, else $MOTIONFORK_CACHE_DIR, else $XDG_CACHE_HOME/motionfork, else
-// ~/.cache/motionfork. "none" disables caching (returns "").
-std::string CacheDir(const std::string& flag_value);
 
 // A one-line progress bar on stderr, redrawn at most ~10 times a second; on a non-terminal it
 // prints a line every 10%. Finish() ends the line.
