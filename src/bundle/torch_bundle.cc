@@ -3,6 +3,7 @@
 #include <torch/script.h>
 
 #include <map>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -27,20 +28,26 @@ std::string ShapeText(const std::vector<int64_t>& shape) {
   return s + "]";
 }
 
-Shapes NetShapes(const torch::nn::Module& net) {
-  Shapes shapes;
-  for (const auto& p : net.named_parameters(/*recurse=*/true))
-    shapes[p.key()] = p.value().sizes().vec();
-  for (const auto& b : net.named_buffers(/*recurse=*/true))
-    shapes[b.key()] = b.value().sizes().vec();
-  return shapes;
+using Tensors = std::map<std::string, torch::Tensor>;
+
+// Every parameter and buffer by its dotted name.
+Tensors NetTensors(const torch::nn::Module& net) {
+  Tensors tensors;
+  for (const auto& p : net.named_parameters(/*recurse=*/true)) tensors[p.key()] = p.value();
+  for (const auto& b : net.named_buffers(/*recurse=*/true)) tensors[b.key()] = b.value();
+  return tensors;
 }
 
-Shapes FileShapes(const torch::jit::Module& file) {
+Tensors FileTensors(const torch::jit::Module& file) {
+  Tensors tensors;
+  for (const auto& p : file.named_parameters(/*recurse=*/true)) tensors[p.name] = p.value;
+  for (const auto& b : file.named_buffers(/*recurse=*/true)) tensors[b.name] = b.value;
+  return tensors;
+}
+
+Shapes ShapesOf(const Tensors& tensors) {
   Shapes shapes;
-  for (const auto& p : file.named_parameters(/*recurse=*/true))
-    shapes[p.name] = p.value.sizes().vec();
-  for (const auto& b : file.named_buffers(/*recurse=*/true)) shapes[b.name] = b.value.sizes().vec();
+  for (const auto& [name, t] : tensors) shapes[name] = t.sizes().vec();
   return shapes;
 }
 
@@ -48,11 +55,9 @@ Shapes FileShapes(const torch::jit::Module& file) {
 std::string FirstDifference(const std::string& manifest, const std::string& saved) {
   std::istringstream a(manifest), b(saved);
   std::string la, lb;
-  int line = 0;
   while (true) {
     const bool more_a = static_cast<bool>(std::getline(a, la));
     const bool more_b = static_cast<bool>(std::getline(b, lb));
-    ++line;
     if (!more_a && !more_b) return "";
     if (!more_a) la = "(nothing)";
     if (!more_b) lb = "(nothing)";
@@ -113,42 +118,37 @@ std::string WeightBytes(torch::nn::Module& net, const std::string& signature) {
 }
 
 struct VerifiedWeights::Impl {
-  std::string bytes;
   std::string weights;   // the file's path
   std::string manifest;  // the manifest's name
-  std::shared_ptr<torch::jit::Module> file;
+  Tensors tensors;       // the file's, by name
 };
 
 VerifiedWeights::VerifiedWeights(const std::string& bytes, const std::string& dir,
                                  const TorchBundleNames& names, const std::string& signature,
                                  BundleCheck check)
     : impl_(std::make_unique<Impl>()) {
-  impl_->bytes = bytes;
   impl_->weights = (std::filesystem::path(dir) / names.weights).string();
   impl_->manifest = names.manifest;
+  std::optional<torch::jit::Module> file;
   try {
     std::istringstream in(bytes);
-    impl_->file = std::make_shared<torch::jit::Module>(torch::jit::load(in, torch::kCPU));
+    file = torch::jit::load(in, torch::kCPU);
   } catch (const c10::Error& e) {
     Fail(impl_->weights,
          std::string("cannot read the weights (damaged, or not a LibTorch file): ") +
              e.what_without_backtrace());
   }
-  CheckSignature(*impl_->file, dir, names, signature, check);
+  CheckSignature(*file, dir, names, signature, check);
+  impl_->tensors = FileTensors(*file);
 }
 
 VerifiedWeights::~VerifiedWeights() = default;
 
 void VerifiedWeights::LoadInto(torch::nn::Module& net) const {
-  CheckShapes(NetShapes(net), FileShapes(*impl_->file), impl_->weights, impl_->manifest);
-  try {
-    std::istringstream in(impl_->bytes);
-    torch::serialize::InputArchive archive;
-    archive.load_from(in, torch::kCPU);
-    net.load(archive);
-  } catch (const c10::Error& e) {
-    Fail(impl_->weights, std::string("cannot load the weights: ") + e.what_without_backtrace());
-  }
+  const Tensors target = NetTensors(net);
+  CheckShapes(ShapesOf(target), ShapesOf(impl_->tensors), impl_->weights, impl_->manifest);
+  torch::NoGradGuard no_grad;
+  for (const auto& [name, t] : target) t.copy_(impl_->tensors.at(name));
 }
 
 void LoadVerifiedWeights(torch::nn::Module& net, const std::string& bytes, const std::string& dir,

@@ -16,6 +16,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/text_format.h"
 
 namespace motionfork {
 
@@ -32,17 +33,11 @@ constexpr size_t kHeadBytes = 4096;
 
 std::string ErrnoText(int err) { return std::strerror(err); }
 
-// "3.00 GB" style sizes for messages.
+// "3.00 GiB" style sizes for messages.
 std::string ReadableBytes(uint64_t bytes) {
-  char buf[32];
-  if (bytes >= (uint64_t{1} << 30)) {
-    std::snprintf(buf, sizeof(buf), "%.2f GiB", bytes / double(uint64_t{1} << 30));
-  } else if (bytes >= (uint64_t{1} << 20)) {
-    std::snprintf(buf, sizeof(buf), "%.2f MiB", bytes / double(uint64_t{1} << 20));
-  } else {
-    std::snprintf(buf, sizeof(buf), "%llu bytes", static_cast<unsigned long long>(bytes));
-  }
-  return buf;
+  if (bytes >= (uint64_t{1} << 30)) return StringPrintf("%.2f GiB", bytes / double(1 << 30));
+  if (bytes >= (uint64_t{1} << 20)) return StringPrintf("%.2f MiB", bytes / double(1 << 20));
+  return std::to_string(bytes) + " bytes";
 }
 
 // What a file of this type is, for "expected a regular file" messages.
