@@ -9,6 +9,8 @@ cd "$(dirname "$0")/.."
 # Why each package:
 #   build-essential cmake ccache pkg-config   compiler, build system, compile cache
 #   libtorch-dev        LibTorch 1.13 (CPU): networks, autograd (generator, prior, penalties)
+#   libgloo-dev         the Gloo headers LibTorch's c10d ProcessGroupGloo includes (data-parallel
+#                       training; the library itself is already a dependency of libtorch)
 #   libopenblas-dev     fast BLAS for LibTorch (the reference BLAS is ~15x slower)
 #   libeigen3-dev       small dense linear algebra in core (DCT, kinematics)
 #   libglm-dev          vector maths for geometry checks
@@ -20,7 +22,7 @@ cd "$(dirname "$0")/.."
 #   python3 python3-numpy   tools/videopose3d_to_motionfork.py (Human3.6M / HumanEva-I npz)
 #   libcairo2-dev       draws the PNG/SVG strip figures of `motionfork render` (and decodes PNGs in its tests)
 #   chromium            headless browser the render tests load the HTML viewer in (play, screenshot)
-PACKAGES=(build-essential cmake ccache pkg-config libtorch-dev libopenblas-dev libeigen3-dev
+PACKAGES=(build-essential cmake ccache pkg-config libtorch-dev libgloo-dev libopenblas-dev libeigen3-dev
           libglm-dev libyaml-cpp-dev catch2 libcli11-dev libarchive-dev nlohmann-json3-dev python3 python3-numpy
           libcairo2-dev chromium)
 

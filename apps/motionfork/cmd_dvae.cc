@@ -58,8 +58,9 @@ DvaeTrainCallbacks EpochReports(EpochBars* bars) {
   return cb;
 }
 
-void RunTrain(const DvaeTrainCmd& o, const GlobalOptions& g) {
+void RunTrain(const DvaeTrainCmd& o, GlobalOptions& g) {
   const std::string& out = o.run.out;
+  if (LaunchIfRequested(o.run.launch, g)) return;
   const Loaded l = LoadForTraining(o, g, false);
   const DvaeManifest base = DvaeTrainingManifest(l.config, l.protocol, *l.skeleton.skeleton);
   EpochBars bars(l.config.training.epochs, !g.quiet);
@@ -72,8 +73,9 @@ void RunTrain(const DvaeTrainCmd& o, const GlobalOptions& g) {
       out.c_str());
 }
 
-void RunFinetune(const DvaeTrainCmd& o, const GlobalOptions& g) {
+void RunFinetune(const DvaeTrainCmd& o, GlobalOptions& g) {
   const std::string& out = o.run.out;
+  if (LaunchIfRequested(o.run.launch, g)) return;
   const Loaded l = LoadForTraining(o, g, true);
   std::printf("unsupervised denoising training on noisy windows:");
   for (const std::string& n : l.config.finetune.noise) std::printf(" %s", n.c_str());

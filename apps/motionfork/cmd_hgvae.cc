@@ -31,8 +31,9 @@ HgvaeTrainCallbacks EpochReports(EpochBars* bars) {
   return cb;
 }
 
-void RunHgvaeTrain(const HgvaeTrainCmd& o, const GlobalOptions& g) {
+void RunHgvaeTrain(const HgvaeTrainCmd& o, GlobalOptions& g) {
   const TrainingRunFlags& run = o.run;
+  if (LaunchIfRequested(run.launch, g)) return;
   HgvaeTrainConfig cfg =
       LoadHgvaeTrainConfig(ResolveConfigPath(ConfigDir(g.config_dir), "models", o.config));
   if (run.epochs > 0) cfg.training.epochs = run.epochs;
@@ -54,7 +55,7 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, const GlobalOptions& g) {
   const HgvaeTrainSummary s =
       TrainHgvae(cfg, base, data, run.out, EpochReports(&bars), run.stop_after);
   if (s.first_epoch >= cfg.training.epochs) {
-    RefreshBundleSettings(run.out, data, cfg);
+    if (IsRankZero()) RefreshBundleSettings(run.out, data, cfg);
     std::printf(
         "all %d epochs were trained already; imputation defaults, OoD score and its statistics "
         "(%s) "

@@ -79,7 +79,14 @@ PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& chec
   return callbacks;
 }
 
-void RunTrain(pipeline::PriorTrainingRequest o, GlobalOptions& g) {
+struct PriorTrainCmd {
+  pipeline::PriorTrainingRequest request;
+  LaunchOptions launch;
+};
+
+void RunTrain(const PriorTrainCmd& c, GlobalOptions& g) {
+  if (LaunchIfRequested(c.launch, g)) return;
+  pipeline::PriorTrainingRequest o = c.request;
   o.config_dir = ConfigDir(g.config_dir);
   o.cache_dir = CacheDir(g.cache_dir);
   o.threads = o.threads > 0 ? o.threads : DefaultThreads();
@@ -152,7 +159,7 @@ void RunSample(const SampleOptions& o, const GlobalOptions&) {
 }
 
 void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
-  const auto [train, t] = AddSubcommand<pipeline::PriorTrainingRequest>(
+  const auto [train, t] = AddSubcommand<PriorTrainCmd>(
       prior, global, RunTrain, "train",
       "Train a pose prior on single frames of a protocol's training split");
   train->footer(
@@ -163,19 +170,24 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
       "+ OUT/weights.npy (the bundle) and OUT/train_log.tsv. Threads: --threads, else\n"
       "$MOTIONFORK_THREADS, else 1.");
   train
-      ->add_option("--protocol", t->protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
+      ->add_option("--protocol", t->request.protocol,
+                   "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  AddDataOption(train, &t->data, "Data folder of the protocol (see 'motionfork dataset stats')");
-  train->add_option("--out", t->out, "Output folder for the bundle and the checkpoint")->required();
-  train->add_option("--config", t->config,
+  AddDataOption(train, &t->request.data,
+                "Data folder of the protocol (see 'motionfork dataset stats')");
+  train->add_option("--out", t->request.out, "Output folder for the bundle and the checkpoint")
+      ->required();
+  train->add_option("--config", t->request.config,
                     "Prior config name in configs/models/ or YAML path (default: flow_prior)");
-  train->add_option("--split", t->split_file, "Split file overriding the protocol's split.file");
+  train->add_option("--split", t->request.split_file,
+                    "Split file overriding the protocol's split.file");
   train
-      ->add_option("--threads", t->threads,
+      ->add_option("--threads", t->request.threads,
                    "LibTorch/BLAS threads (default $MOTIONFORK_THREADS or 1)")
       ->check(PositiveNumber);
-  train->add_flag("--restart", t->restart,
+  train->add_flag("--restart", t->request.restart,
                   "Discard a checkpoint or trained prior in OUT and train from the start");
+  AddLauncherOptions(train, &t->launch);
 }
 
 void AddPriorScore(CLI::App* prior, GlobalOptions& global) {

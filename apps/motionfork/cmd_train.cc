@@ -55,8 +55,9 @@ TrainCallbacks EpochReports(EpochBars* bars) {
   return cb;
 }
 
-void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
+void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   const TrainingRunFlags& run = o.run;
+  if (LaunchIfRequested(run.launch, g)) return;
   const std::string config_dir = ConfigDir(g.config_dir);
   const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
   GeneratorTrainConfig cfg = LoadGeneratorTrainConfig(config_path);
@@ -64,8 +65,8 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
     cfg.training.epochs = run.epochs;
     cfg.training.lr_constant_epochs = std::min(cfg.training.lr_constant_epochs, run.epochs);
   }
-  RecordTrainingConfig(run.out, config_path, run.split_file,
-                       run.epochs);  // before the data: a refused folder costs nothing
+  if (IsRankZero())  // before the data: a refused folder costs nothing
+    RecordTrainingConfig(run.out, config_path, run.split_file, run.epochs);
   const Dataset ds = LoadProtocolDataset(cfg.protocol, run.data, run.split_file, g);
   const Skeleton& skeleton = *ds.skeleton.skeleton;
   TrainingWindows data;
@@ -83,7 +84,7 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
                 losses.constraints_path.c_str());
   }
   if (!losses.prior_dir.empty()) std::printf("prior loss: %s\n", losses.prior_dir.c_str());
-  AttachToBundle(run.out, losses.constraints_path, losses.prior_dir);
+  if (IsRankZero()) AttachToBundle(run.out, losses.constraints_path, losses.prior_dir);
   EpochBars bars(cfg.training.epochs, !g.quiet);
   const TrainSummary s =
       TrainGenerator(cfg, model, data, run.out, losses.hooks, EpochReports(&bars), run.stop_after);
@@ -99,6 +100,13 @@ void RunTrain(const TrainOptions& o, const GlobalOptions& g) {
       "trained epochs %d..%d in %s; bundle: %s (model.yaml, generator.pt), log: %s/log.csv\n",
       s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), run.out.c_str(),
       run.out.c_str());
+  if (s.workers > 1) {
+    std::printf(
+        "gradient all-reduce: %.2f s of %.2f s (%.1f%%), %lld steps, %.3f MB of gradients "
+        "a step, %d workers\n",
+        s.reduce_seconds, s.seconds, 100 * s.reduce_seconds / s.seconds,
+        static_cast<long long>(s.steps), s.gradient_mb, s.workers);
+  }
 }
 
 }  // namespace

@@ -6,10 +6,11 @@
 namespace motionfork::app {
 
 struct GlobalOptions {
-  std::string config_dir;  // --config-dir
-  std::string cache_dir;   // --cache-dir
-  bool quiet = false;      // --quiet: no progress bars
-  int exit_code = 0;       // set by a subcommand that ran
+  std::string config_dir;         // --config-dir
+  std::string cache_dir;          // --cache-dir
+  bool quiet = false;             // --quiet: no progress bars
+  int exit_code = 0;              // set by a subcommand that ran
+  std::vector<std::string> argv;  // the command line as given (the launcher reruns it)
 };
 
 void AddInfoCommand(CLI::App& app, GlobalOptions& global);

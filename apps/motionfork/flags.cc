@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "app_common.h"
 #include "io/file_util.h"
 #include "io/json_text.h"
 
@@ -129,6 +130,28 @@ void AddTrainingRunOptions(CLI::App* cmd, TrainingRunFlags* f, const std::string
   cmd->add_option("--stop-after", f->stop_after,
                   "Stop after this many epochs of this run (resume later)")
       ->check(PositiveNumber);
+  AddLauncherOptions(cmd, &f->launch);
+}
+
+void AddLauncherOptions(CLI::App* cmd, LaunchOptions* o) {
+  const char* group = "Workers (or torchrun's RANK, WORLD_SIZE, MASTER_ADDR, ... variables)";
+  cmd->add_option("--nproc-per-node", o->nproc_per_node, "Worker processes on this machine")
+      ->check(PositiveNumber)
+      ->group(group);
+  cmd->add_option("--nnodes", o->nnodes, "Machines in the run")
+      ->check(PositiveNumber)
+      ->group(group);
+  cmd->add_option("--node-rank", o->node_rank, "This machine's index, 0..nnodes-1")->group(group);
+  cmd->add_option("--master-addr", o->master_addr, "Host of node 0 (default 127.0.0.1)")
+      ->group(group);
+  cmd->add_option("--master-port", o->master_port, "Port of node 0 (default: a free one)")
+      ->group(group);
+}
+
+bool LaunchIfRequested(const LaunchOptions& o, GlobalOptions& g) {
+  if (!LaunchRequested(o)) return false;
+  g.exit_code = LaunchWorkers(o, WithoutLauncherFlags(g.argv), PrintMessage);
+  return true;
 }
 
 void AddJsonOption(CLI::App* cmd, std::string* destination, const std::string& what) {

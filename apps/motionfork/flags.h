@@ -8,6 +8,8 @@
 #include <string>
 
 #include "commands.h"
+#include "launch/worker_launcher.h"
+#include "launch/worker_place.h"
 
 namespace motionfork::app {
 
@@ -89,13 +91,20 @@ void AddThreadsOption(CLI::App* cmd, int* threads);
 void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,
                           const std::string& windows_help);
 
-// The flags of a training run that resumes: --data, --out, --split, --epochs, --stop-after.
+// The flags of a training run that resumes: --data, --out, --split, --epochs, --stop-after, and
+// the launcher's (AddLauncherOptions).
 struct TrainingRunFlags {
   std::string data, out, split_file;
   int epochs = 0;      // overrides the config's; 0 = the config's
   int stop_after = 0;  // epochs of this run; 0 = all
+  LaunchOptions launch;
 };
 void AddTrainingRunOptions(CLI::App* cmd, TrainingRunFlags* f, const std::string& out_help);
+// --nproc-per-node, --nnodes, --node-rank, --master-addr, --master-port (torchrun's spellings).
+void AddLauncherOptions(CLI::App* cmd, LaunchOptions* o);
+// When `o` asks for several workers: starts this machine's workers on the same command line
+// (without the launcher's flags), waits for them, sets g.exit_code and returns true.
+bool LaunchIfRequested(const LaunchOptions& o, GlobalOptions& g);
 
 // --json [FILE]: the report as JSON, written to FILE, or printed on stdout when FILE is '-' or
 // left out.

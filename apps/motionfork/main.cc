@@ -8,6 +8,7 @@
 #include "app_common.h"
 #include "commands.h"
 #include "core/error.h"
+#include "launch/worker_place.h"
 #include "suggest.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/error_text.h"
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
   app.fallthrough();
   app.set_version_flag("--version", MOTIONFORK_VERSION);
   GlobalOptions global;
+  global.argv.assign(argv, argv + argc);
   app.add_option(
       "--config-dir", global.config_dir,
       "Folder of YAML configs (default: $MOTIONFORK_CONFIG_DIR or the source tree's configs/)");
@@ -43,7 +45,13 @@ int main(int argc, char** argv) {
         AddOodCommand, AddDvaeCommand, AddDenoiseCommand, AddBundleCommand}) {
     add(app, global);
   }
+  std::string worker;  // "rank N: " in a run of several workers, whose rank 0 alone prints
   try {
+    if (const motionfork::WorkerPlace place = motionfork::WorkerPlaceFromEnvironment();
+        place.world_size > 1) {
+      worker = "rank " + std::to_string(place.rank) + ": ";
+      if (place.rank != 0 && std::freopen("/dev/null", "w", stdout)) global.quiet = true;
+    }
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (const std::string fix = SuggestFix(app, argc, argv); !fix.empty()) {
@@ -57,7 +65,8 @@ int main(int argc, char** argv) {
     std::string doing = "running 'motionfork";
     for (const CLI::App* s = &app; !s->get_subcommands().empty(); s = s->get_subcommands()[0])
       doing += " " + s->get_subcommands()[0]->get_name();
-    std::fprintf(stderr, "motionfork: error: %s\n", UserErrorMessage(e, doing + "'").c_str());
+    std::fprintf(stderr, "motionfork: error: %s%s\n", worker.c_str(),
+                 UserErrorMessage(e, doing + "'").c_str());
     return kExitBadInput;
   }
   return global.exit_code;

@@ -1,9 +1,13 @@
 #include "eval/evaluate.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace motionfork {
 namespace {
@@ -139,99 +143,152 @@ EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& 
   result.per_window.assign(N, WindowMetrics{});
   result.evaluated.assign(N, 0);
 
+  // Each window is measured on its own (its seed is WindowSeed(seed, i)), by `threads` threads
+  // taking windows in turn; the sums are then taken in window order, so that the figures do not
+  // depend on the number of threads.
+  struct Outcome {
+    bool skipped = false;
+    WindowMetrics m;
+    double varied = 0, fixed = 0;
+    std::vector<double> pred_scores, truth_scores;
+  };
+  std::vector<Outcome> outcomes(N);
+  std::atomic<int> next{0}, done{0};
+  std::mutex progress_lock;
+  std::vector<std::exception_ptr> failures(N);
+  std::vector<double> seconds(3 * std::max(1, options.threads), 0.0);
+  auto report = [&] {
+    const int d = ++done;
+    if (!options.progress) return;
+    std::lock_guard<std::mutex> lock(progress_lock);
+    options.progress(d, N);
+  };
+  auto work = [&](int thread) {
+    std::vector<float> history, futures;
+    std::vector<float> samples(static_cast<size_t>(K) * T * D);       // [K, T, D]
+    std::vector<float> relative(static_cast<size_t>(K) * T * J * 3);  // [K * T, J, 3] root at 0
+    std::vector<float> truth_positions(static_cast<size_t>(T) * J * 3);
+    std::vector<const float*> truths;
+    std::vector<Displacement> displacements;
+    std::vector<double> scratch;
+    DisplacementWorkspace workspace;
+    double* time = seconds.data() + 3 * thread;  // predicting, metrics, scoring
+    for (int i = next++; i < N; i = next++) {
+      Outcome& o = outcomes[i];
+      try {
+        const int set_size = ts.multimodal.set_size(i);
+        if (!options.keep_singleton_sets && set_size == 1) {
+          o.skipped = true;
+          report();
+          continue;
+        }
+        auto start = Clock::now();
+        history.assign(ts.history(i), ts.history(i) + static_cast<size_t>(ts.t_his) * J * 3);
+        PredictRequest request;
+        request.num_samples = K;
+        request.seed = WindowSeed(options.seed, i);
+        request.fixed_part = options.fixed_part;
+        predictor.Predict(history, request, &futures);
+        time[0] += Since(start);
+
+        start = Clock::now();
+        for (size_t f = 0; f < static_cast<size_t>(K) * T; ++f) {
+          const float* p = futures.data() + f * J * 3;
+          float* r = relative.data() + f * J * 3;
+          float* s = samples.data() + f * D;
+          for (int e = 0; e < J * 3; ++e) {
+            if (!std::isfinite(p[e])) {
+              throw std::invalid_argument(
+                  predictor.name() + " returned a non-finite position in window " +
+                  std::to_string(i) + " (clip '" + ts.clip_names[ts.windows[i].clip] +
+                  "', start frame " + std::to_string(ts.windows[i].start) + ")");
+            }
+            r[e] = p[e] - p[e % 3];
+          }
+          std::copy(r + 3, r + J * 3, s);
+        }
+        WindowMetrics& m = o.m;
+        m.apd = Apd(samples.data(), K, T, D);
+        truths.clear();
+        int self = -1;
+        for (int k = 0; k < set_size; ++k) {
+          const int member = ts.multimodal.set(i)[k];
+          if (member == i) self = k;
+          truths.push_back(ts.future(member));
+        }
+        if (self < 0) {
+          throw std::invalid_argument(
+              "Evaluate: window " + std::to_string(i) +
+              " is missing from its own multimodal set (sets built for other windows?)");
+        }
+        workspace.Run(samples.data(), K, T, D, truths, &displacements);
+        m.ade = displacements[self].ade;
+        m.fde = displacements[self].fde;
+        for (const Displacement& d : displacements) {
+          m.mmade += d.ade;
+          m.mmfde += d.fde;
+        }
+        m.mmade /= set_size;
+        m.mmfde /= set_size;
+        if (options.fixed_part >= 0) {
+          if (!varied_dims.empty()) o.varied = ApdOfDims(samples.data(), K, T, D, varied_dims);
+          if (!fixed_dims.empty()) o.fixed = ApdOfDims(samples.data(), K, T, D, fixed_dims);
+        }
+        time[1] += Since(start);
+
+        o.pred_scores.assign(scorers, 0.0);
+        o.truth_scores.assign(scorers, 0.0);
+        if (scorers > 0) {
+          start = Clock::now();
+          const float* gt = ts.future(i);
+          for (int t = 0; t < T; ++t) {
+            float* q = truth_positions.data() + static_cast<size_t>(t) * J * 3;
+            q[0] = q[1] = q[2] = 0;
+            std::copy(gt + static_cast<size_t>(t) * D, gt + static_cast<size_t>(t + 1) * D, q + 3);
+          }
+          for (size_t s = 0; s < scorers; ++s) {
+            o.pred_scores[s] = MeanScore(options.scorers[s], relative.data(), K * T, &scratch, i);
+            o.truth_scores[s] =
+                MeanScore(options.scorers[s], truth_positions.data(), T, &scratch, i);
+          }
+          time[2] += Since(start);
+        }
+      } catch (...) {
+        failures[i] = std::current_exception();
+        next = N;  // the others stop after their current window
+      }
+      report();
+    }
+  };
+  const int threads = std::max(1, std::min(options.threads, N));
+  if (threads == 1) {
+    work(0);
+  } else {
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) pool.emplace_back(work, t);
+    for (std::thread& t : pool) t.join();
+  }
+  for (int i = 0; i < N; ++i) {  // the first failing window's error, whatever the threads
+    if (failures[i]) std::rethrow_exception(failures[i]);
+  }
+  for (int t = 0; t < threads; ++t) {
+    result.seconds_predicting += seconds[3 * t];
+    result.seconds_metrics += seconds[3 * t + 1];
+    result.seconds_scoring += seconds[3 * t + 2];
+  }
   Sums all(scorers);
   std::vector<Sums> per_action(ts.actions.size(), Sums(scorers));
-  std::vector<float> history, futures;
-  std::vector<float> samples(static_cast<size_t>(K) * T * D);       // [K, T, D]
-  std::vector<float> relative(static_cast<size_t>(K) * T * J * 3);  // [K * T, J, 3] root at 0
-  std::vector<float> truth_positions(static_cast<size_t>(T) * J * 3);
-  std::vector<const float*> truths;
-  std::vector<Displacement> displacements;
-  std::vector<double> pred_scores(scorers), truth_scores(scorers), scratch;
-  DisplacementWorkspace workspace;
-
   for (int i = 0; i < N; ++i) {
-    const int set_size = ts.multimodal.set_size(i);
-    if (!options.keep_singleton_sets && set_size == 1) {
+    const Outcome& o = outcomes[i];
+    if (o.skipped) {
       ++result.windows_skipped;
-      if (options.progress) options.progress(i + 1, N);
       continue;
     }
-    auto start = Clock::now();
-    history.assign(ts.history(i), ts.history(i) + static_cast<size_t>(ts.t_his) * J * 3);
-    PredictRequest request;
-    request.num_samples = K;
-    request.seed = WindowSeed(options.seed, i);
-    request.fixed_part = options.fixed_part;
-    predictor.Predict(history, request, &futures);
-    result.seconds_predicting += Since(start);
-
-    start = Clock::now();
-    for (size_t f = 0; f < static_cast<size_t>(K) * T; ++f) {
-      const float* p = futures.data() + f * J * 3;
-      float* r = relative.data() + f * J * 3;
-      float* s = samples.data() + f * D;
-      for (int e = 0; e < J * 3; ++e) {
-        if (!std::isfinite(p[e])) {
-          throw std::invalid_argument(
-              predictor.name() + " returned a non-finite position in window " + std::to_string(i) +
-              " (clip '" + ts.clip_names[ts.windows[i].clip] + "', start frame " +
-              std::to_string(ts.windows[i].start) + ")");
-        }
-        r[e] = p[e] - p[e % 3];
-      }
-      std::copy(r + 3, r + J * 3, s);
-    }
-    WindowMetrics m;
-    m.apd = Apd(samples.data(), K, T, D);
-    truths.clear();
-    int self = -1;
-    for (int k = 0; k < set_size; ++k) {
-      const int member = ts.multimodal.set(i)[k];
-      if (member == i) self = k;
-      truths.push_back(ts.future(member));
-    }
-    if (self < 0) {
-      throw std::invalid_argument(
-          "Evaluate: window " + std::to_string(i) +
-          " is missing from its own multimodal set (sets built for other windows?)");
-    }
-    workspace.Run(samples.data(), K, T, D, truths, &displacements);
-    m.ade = displacements[self].ade;
-    m.fde = displacements[self].fde;
-    for (const Displacement& d : displacements) {
-      m.mmade += d.ade;
-      m.mmfde += d.fde;
-    }
-    m.mmade /= set_size;
-    m.mmfde /= set_size;
-    double varied = 0, fixed = 0;
-    if (options.fixed_part >= 0) {
-      if (!varied_dims.empty()) varied = ApdOfDims(samples.data(), K, T, D, varied_dims);
-      if (!fixed_dims.empty()) fixed = ApdOfDims(samples.data(), K, T, D, fixed_dims);
-    }
-    result.seconds_metrics += Since(start);
-
-    if (scorers > 0) {
-      start = Clock::now();
-      const float* gt = ts.future(i);
-      for (int t = 0; t < T; ++t) {
-        float* o = truth_positions.data() + static_cast<size_t>(t) * J * 3;
-        o[0] = o[1] = o[2] = 0;
-        std::copy(gt + static_cast<size_t>(t) * D, gt + static_cast<size_t>(t + 1) * D, o + 3);
-      }
-      for (size_t s = 0; s < scorers; ++s) {
-        pred_scores[s] = MeanScore(options.scorers[s], relative.data(), K * T, &scratch, i);
-        truth_scores[s] = MeanScore(options.scorers[s], truth_positions.data(), T, &scratch, i);
-      }
-      result.seconds_scoring += Since(start);
-    }
-
-    result.per_window[i] = m;
+    const int set_size = ts.multimodal.set_size(i);
+    result.per_window[i] = o.m;
     result.evaluated[i] = 1;
-    all.Add(m, set_size, varied, fixed, pred_scores, truth_scores);
-    per_action[ts.action[i]].Add(m, set_size, varied, fixed, pred_scores, truth_scores);
-    if (options.progress) options.progress(i + 1, N);
+    all.Add(o.m, set_size, o.varied, o.fixed, o.pred_scores, o.truth_scores);
+    per_action[ts.action[i]].Add(o.m, set_size, o.varied, o.fixed, o.pred_scores, o.truth_scores);
   }
   if (all.windows == 0) {
     throw std::invalid_argument("Evaluate: every one of the " + std::to_string(N) +

@@ -39,7 +39,11 @@ struct EvalOptions {
   bool keep_singleton_sets = true;
   // Plausibility figures, each reported for predicted frames and for ground-truth frames.
   std::vector<FrameScorer> scorers;
-  // Called after each window with (windows done, total); may be empty.
+  // Threads measuring windows at once (>= 1). The figures are the same for any number: each
+  // window has its own seed and the sums are taken in window order. The predictor's Predict and
+  // the scorers are then called from several threads at once (they must not change shared state).
+  int threads = 1;
+  // Called after each window with (windows done, total), one call at a time; may be empty.
   std::function<void(int done, int total)> progress;
 };
 
@@ -65,7 +69,7 @@ struct EvalResult {
   std::vector<WindowMetrics> per_window;  // [N]; all zero for a skipped window
   std::vector<char> evaluated;            // [N]: 0 for a window skipped as a singleton
   int windows_skipped = 0;                // singleton sets left out (keep_singleton_sets false)
-  double seconds_predicting = 0;          // wall time inside Predictor::Predict
+  double seconds_predicting = 0;          // time inside Predictor::Predict, summed over threads
   double seconds_metrics = 0;             // APD, ADE, FDE, MMADE, MMFDE (+ part APDs)
   double seconds_scoring = 0;             // frame scorers
 };

@@ -55,7 +55,8 @@ class Predictor {
 
  protected:
   // Called by Predict with validated arguments. futures: [K, t_pred, J, 3], caller-owned,
-  // contents undefined on entry.
+  // contents undefined on entry. Evaluate with several threads calls it from all of them at once:
+  // it must not change the predictor (the baselines and the generator's adapter do not).
   virtual void DoPredict(const float* history, const PredictRequest& request, float* futures) = 0;
 };
 

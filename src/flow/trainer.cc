@@ -12,6 +12,8 @@
 #include "core/error.h"
 #include "flow/flow_module.h"
 #include "io/file_util.h"
+#include "torch_util/data_parallel.h"
+#include "torch_util/threads.h"
 
 namespace motionfork {
 namespace {
@@ -212,10 +214,16 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
   const std::string fingerprint = DataFingerprint(data);
   CheckpointState state;
   PriorTrainOutcome outcome;
-  if (!checkpoint_path.empty() && std::filesystem::exists(checkpoint_path)) {
+  // Rank 0 reads the checkpoint; every worker takes its weights, Adam's state and epoch count.
+  DataParallel& workers = TrainingWorkers();
+  if (workers.distributed()) PinThreads(workers.ThreadsPerWorker(torch::get_num_threads()));
+  if (workers.writes() && !checkpoint_path.empty() && std::filesystem::exists(checkpoint_path)) {
     state = ReadCheckpoint(checkpoint_path, config_text, fingerprint, flow, adam);
-    outcome.resumed_from_epoch = state.epochs_done;
   }
+  std::vector<double> resumed = {static_cast<double>(state.epochs_done)};
+  workers.BroadcastTrainingState(*flow, adam, &resumed);
+  state.epochs_done = static_cast<int>(resumed[0]);
+  outcome.resumed_from_epoch = state.epochs_done;
 
   const int64_t N = data.train.size();
   const int64_t B = std::min<int64_t>(o.batch_size, N);
@@ -237,12 +245,19 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
     double nll_sum = 0;
     int64_t seen = 0;
     for (int64_t s = 0; s < steps; ++s) {
-      const int64_t begin = s * B, end = std::min(N, begin + B);
+      // This worker's share of the step's frames; its gradient weighted by that share.
+      const int64_t first = s * B, size = std::min(N, first + B) - first;
+      const Share share = workers.BatchShare(size);
+      const int64_t begin = first + share.begin, end = first + share.end;
+      if (end == begin) {  // a last step with fewer frames than workers: this one has none
+        adam.zero_grad();
+        workers.ReduceGradients(params, 0.0);
+        adam.step();
+        continue;
+      }
       const torch::Tensor batch = all.index_select(0, order_t.slice(0, begin, end));
       const torch::Tensor loss = -flow->log_prob(batch).mean();
-      adam.zero_grad();
-      loss.backward();
-      adam.step();
+      DataParallelStep(workers, adam, loss, params, static_cast<double>(end - begin) / size, 0);
       const double v = loss.item<double>();
       if (!std::isfinite(v)) {
         throw std::runtime_error("prior training diverged at epoch " + std::to_string(epoch + 1) +
@@ -260,13 +275,18 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
         return outcome;
       }
     }
+    if (workers.distributed()) {  // the epoch's mean over every worker's frames
+      std::vector<double> totals = {nll_sum, static_cast<double>(seen)};
+      workers.SumValues(&totals);
+      p.train_nll = totals[0] / totals[1];
+    }
     p.held_out_nll = MeanNll(prior, data.held_out);
     state.epochs_done = epoch + 1;
     state.train_nll.push_back(p.train_nll);
     state.held_out_nll.push_back(p.held_out_nll);
     const double before = state.seconds;
     state.seconds = before + since(run_start);
-    if (!checkpoint_path.empty()) {
+    if (workers.writes() && !checkpoint_path.empty()) {
       WriteCheckpoint(checkpoint_path, config_text, fingerprint, state, flow, adam);
     }
     state.seconds = before;  // this run's time is added once, at the end or on stop

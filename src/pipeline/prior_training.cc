@@ -10,6 +10,7 @@
 #include "config/skeleton_config.h"
 #include "dataset/dataset.h"
 #include "io/file_util.h"
+#include "launch/worker_place.h"
 
 namespace motionfork::pipeline {
 namespace {
@@ -40,10 +41,11 @@ PriorTrainingRun TrainPriorBundle(const PriorTrainingRequest& o,
   const fs::path out(o.out);
   PriorTrainingRun run;
   run.checkpoint = (out / "checkpoint.pt").string();
-  if (o.restart) {
+  const bool writes = IsRankZero();  // rank 0 alone reads and writes the run's files
+  if (writes && o.restart) {
     std::error_code ec;
     fs::remove(run.checkpoint, ec);
-  } else if (!fs::exists(run.checkpoint) && fs::exists(out / "prior.yaml")) {
+  } else if (writes && !fs::exists(run.checkpoint) && fs::exists(out / "prior.yaml")) {
     throw std::invalid_argument(
         o.out +
         " already holds a trained prior (prior.yaml) and no checkpoint to resume: pass "
@@ -66,11 +68,12 @@ PriorTrainingRun TrainPriorBundle(const PriorTrainingRequest& o,
   prior.mutable_summary().fps = protocol.fps;
   prior.mutable_summary().threads = o.threads;
   if (callbacks.started) callbacks.started(prior, data, config_path);
-  fs::create_directories(out);
+  if (writes) fs::create_directories(out);
   run.completed = TrainPosePrior(prior, data, run.checkpoint, callbacks.training).completed;
   if (!run.completed) return run;
-  SavePosePrior(prior, o.out);
   run.summary = prior.summary();
+  if (!writes) return run;
+  SavePosePrior(prior, o.out);
   WriteFileAtomically((out / "train_log.tsv").string(), TrainLog(run.summary, config.training));
   std::error_code ec;
   fs::remove(run.checkpoint, ec);  // the bundle holds everything; a re-run must say --restart

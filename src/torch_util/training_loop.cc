@@ -34,14 +34,6 @@ int ResumeTraining(const fs::path& ckpt_dir, const std::string& weights_name,
   return epochs_done;
 }
 
-void OptimizerStep(torch::optim::Optimizer& optimizer, const torch::Tensor& loss,
-                   const std::vector<torch::Tensor>& params, double grad_clip) {
-  optimizer.zero_grad();
-  loss.backward();
-  torch::nn::utils::clip_grad_norm_(params, grad_clip);
-  optimizer.step();
-}
-
 void RequireFiniteLoss(double loss, const std::string& what, int epoch) {
   if (!std::isfinite(loss)) {
     throw std::runtime_error(what + ": the loss became non-finite at epoch " +

@@ -1,6 +1,7 @@
 // What the training loops share (the generator's, the HG-VAE's, the Motion-DVAE's training and
-// fine-tuning): resuming from OUT/checkpoint, one optimiser step, the non-finite loss check, the
-// learning rate and KL weight schedules, the epoch log OUT/log.csv.
+// fine-tuning): resuming from OUT/checkpoint, the non-finite loss check, the
+// learning rate and KL weight schedules, the epoch log OUT/log.csv. The optimiser step, over one
+// worker or many, is DataParallelStep (data_parallel.h).
 #pragma once
 
 #include <torch/torch.h>
@@ -32,11 +33,6 @@ int ResumeTraining(const std::filesystem::path& ckpt_dir, const std::string& wei
 // Keeps the header and the rows of epochs 1..epochs_done of an epoch log (all-or-nothing); nothing
 // happens when the file does not exist.
 void TrimEpochLog(const std::filesystem::path& file, int epochs_done);
-
-// Gradients cleared, loss back-propagated, the gradient norm over params clipped to grad_clip, one
-// step of optimizer.
-void OptimizerStep(torch::optim::Optimizer& optimizer, const torch::Tensor& loss,
-                   const std::vector<torch::Tensor>& params, double grad_clip);
 
 // Throws std::runtime_error "<what>: the loss became non-finite at epoch <epoch + 1>" when loss is
 // NaN or infinite (epoch 0-based).

@@ -18,6 +18,7 @@
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
 #include "torch_util/checkpoint.h"
+#include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"
 #include "torch_util/training_loop.h"
 
@@ -111,9 +112,17 @@ void AddStep(const std::array<torch::Tensor, 5>& terms, const char* what, int ep
   if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
 }
 
-// An epoch's log, appended to `file` (OUT/log.csv): the means over the epoch's `iterations` steps
-// of their five terms (`names`), then the held-out figures.
-DvaeEpochLog LogEpoch(const fs::path& file, int epoch, double kl_weight, double seconds,
+// The epoch's sums over every worker's share (each weighted by its share of the batch).
+void SumOverWorkers(DataParallel& workers, double weight, double (&sums)[5]) {
+  std::vector<double> totals(sums, sums + 5);
+  for (double& v : totals) v *= weight;
+  workers.SumValues(&totals);
+  std::copy(totals.begin(), totals.end(), sums);
+}
+
+// An epoch's log, appended to `file` (OUT/log.csv) when `write`: the means over the epoch's
+// `iterations` steps of their five terms (`names`), then the held-out figures.
+DvaeEpochLog LogEpoch(const fs::path& file, bool write, int epoch, double kl_weight, double seconds,
                       const std::array<const char*, 5>& names, const double (&sums)[5],
                       int iterations,
                       std::initializer_list<std::pair<std::string, double>> held_out) {
@@ -123,7 +132,7 @@ DvaeEpochLog LogEpoch(const fs::path& file, int epoch, double kl_weight, double 
   log.seconds = seconds;
   for (int k = 0; k < 5; ++k) log.terms.emplace_back(names[k], sums[k] / iterations);
   log.terms.insert(log.terms.end(), held_out.begin(), held_out.end());
-  AppendEpochLog(file, "kl_weight", log.epoch, log.kl_weight, log.seconds, log.terms);
+  if (write) AppendEpochLog(file, "kl_weight", log.epoch, log.kl_weight, log.seconds, log.terms);
   return log;
 }
 
@@ -133,7 +142,8 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
                            const DvaeData& data, const std::string& out_dir,
                            const DvaeTrainCallbacks& cb, int stop_after_epochs) {
   const DvaeTrainOptions& t = config.training;
-  PinThreads(t.threads);
+  DataParallel& workers = TrainingWorkers();
+  PinThreads(workers.ThreadsPerWorker(t.threads));
   torch::manual_seed(t.seed);
   DvaeManifest m = base;
   m.model = config.model;
@@ -144,10 +154,18 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
   DvaeTrainSummary summary;
-  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
+  std::vector<double> resumed = {0};
+  if (workers.writes())
+    resumed[0] = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
+  workers.BroadcastTrainingState(*net, adam, &resumed);
+  summary.first_epoch = static_cast<int>(resumed[0]);
   const std::vector<int> frames = ClipFrames(data.train, F);
   const WindowBatch held = HeldOutBatch(data, W, t.held_out_windows);
   const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
+  workers.RequireBatch(B, "training.batch_size");
+  const Share share = workers.BatchShare(B);  // this worker's windows of every step
+  const int Bs = static_cast<int>(share.size());
+  const double weight = static_cast<double>(Bs) / B;
   const auto start = std::chrono::steady_clock::now();
   for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
     if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
@@ -155,22 +173,25 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
     SetLearningRate(adam, t.learning_rate * std::pow(t.lr_decay, epoch));
     net->train();
     RandomWindowSampler sampler(frames, W, t.seed * 1000003ull + epoch);
-    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch);
+    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch +
+                                                                 1000000007ull * workers.rank());
     double sums[5] = {0, 0, 0, 0, 0}, beta = 0;
     for (int it = 0; it < iterations; ++it) {
       WindowBatch batch;
       for (int b = 0; b < B; ++b) {
         const Window w = sampler.Next();
-        AddWindow(data.train[w.clip], J, w.start, W, &batch);
+        if (b >= share.begin && b < share.end) AddWindow(data.train[w.clip], J, w.start, W, &batch);
       }
-      const torch::Tensor x = norm.Normalise(batch.values.data(), B, W);
+      const torch::Tensor x = norm.Normalise(batch.values.data(), Bs, W);
       beta = AnnealedWeight(t.kl_start, t.kl_anneal_epochs,
                             epoch + static_cast<double>(it) / iterations);
       const PriorTerms terms = PriorObjective(net, norm, x, beta, t.bone_weight, gen);
-      OptimizerStep(adam, terms.loss, net->parameters(), t.grad_clip);
+      DataParallelStep(workers, adam, terms.loss, net->parameters(), weight, t.grad_clip);
       AddStep({terms.loss, terms.nll, terms.kl, terms.bone, terms.x0}, "Motion-DVAE training",
               epoch, it, iterations, cb, sums);
     }
+    SumOverWorkers(workers, weight, sums);
+    workers.AverageBuffers(*net);
     // Held-out: negative ELBO (one posterior sample, fixed seed) and the reconstruction error of
     // the posterior means, cm per joint.
     net->eval();
@@ -186,12 +207,15 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
           ((p.mean - x.slice(1, 1)) * norm.std()).reshape({held.count, W - 1, J, 3});
       mpjpe = d.norm(2, -1).mean().item<double>() * 100;
     }
-    const DvaeEpochLog log = LogEpoch(out / "log.csv", epoch, beta, SecondsSince(epoch_start),
-                                      {"loss", "nll", "kl", "bone_cm2", "x0_nll"}, sums, iterations,
-                                      {{"held_out_neg_elbo", nelbo}, {"held_out_recon_cm", mpjpe}});
+    const DvaeEpochLog log =
+        LogEpoch(out / "log.csv", workers.writes(), epoch, beta, SecondsSince(epoch_start),
+                 {"loss", "nll", "kl", "bone_cm2", "x0_nll"}, sums, iterations,
+                 {{"held_out_neg_elbo", nelbo}, {"held_out_recon_cm", mpjpe}});
     SetManifestInfo(&m.info, "epochs_trained", std::to_string(epoch + 1));
-    SaveDvaeBundle(out_dir, m, net);
-    SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1);
+    if (workers.writes()) {
+      SaveDvaeBundle(out_dir, m, net);
+      SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1);
+    }
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }
@@ -203,7 +227,8 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
                               const DvaeData& data, const std::string& out_dir,
                               const DvaeTrainCallbacks& cb, int stop_after_epochs) {
   const DvaeFinetuneOptions& t = config.finetune;
-  PinThreads(t.threads);
+  DataParallel& workers = TrainingWorkers();
+  PinThreads(workers.ThreadsPerWorker(t.threads));
   torch::manual_seed(t.seed);
   DvaeManifest m;
   DvaeNet net = LoadDvaeBundle(prior_dir, &m);
@@ -229,13 +254,19 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
 
   const fs::path out(out_dir), ckpt = out / "checkpoint", state = ckpt / "finetune_best.txt";
   DvaeTrainSummary summary;
-  summary.first_epoch = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
-  double best = INFINITY;
-  int bad_epochs = 0;
-  if (summary.first_epoch > 0) {
-    std::ifstream in(state);
-    in >> best >> bad_epochs;
+  // Rank 0 resumes; every worker takes its state (weights, Adam, the early-stopping record).
+  std::vector<double> resumed = {0, INFINITY, 0};  // epochs done, best held-out loss, bad epochs
+  if (workers.writes()) {
+    resumed[0] = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
+    if (resumed[0] > 0) {
+      std::ifstream in(state);
+      in >> resumed[1] >> resumed[2];
+    }
   }
+  workers.BroadcastTrainingState(*net, adam, &resumed);
+  summary.first_epoch = static_cast<int>(resumed[0]);
+  double best = resumed[1];
+  int bad_epochs = static_cast<int>(resumed[2]);
   // Held-out noisy windows, the same every epoch: each window gets every noise kind in turn.
   const WindowBatch clean = HeldOutBatch(data, W, 1000);
   WindowBatch noisy = clean;
@@ -247,6 +278,10 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   }
   const std::vector<int> frames = ClipFrames(data.train, F);
   const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
+  workers.RequireBatch(B, "finetune.batch_size");
+  const Share share = workers.BatchShare(B);  // this worker's windows of every step
+  const int Bs = static_cast<int>(share.size());
+  const double weight = static_cast<double>(Bs) / B;
   const auto start = std::chrono::steady_clock::now();
   for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
     if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
@@ -258,27 +293,30 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
     net->train();
     RandomWindowSampler sampler(frames, W, t.seed * 1000003ull + epoch);
     std::mt19937_64 rng(t.seed * 7919ull + epoch);
-    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch);
+    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch +
+                                                                 1000000007ull * workers.rank());
     double sums[5] = {0, 0, 0, 0, 0}, beta = 0;
     std::vector<float> noisy_clip;
     for (int it = 0; it < iterations; ++it) {
       WindowBatch batch;
-      for (int b = 0; b < B; ++b) {
+      for (int b = 0; b < B; ++b) {  // every window's noise drawn, this worker's share kept
         const Window w = sampler.Next();
         const std::vector<float>& clip = data.train[w.clip];
         noisy_clip.assign(clip.begin() + static_cast<size_t>(w.start) * F,
                           clip.begin() + static_cast<size_t>(w.start + W) * F);
         AddNoise(kinds[rng() % kinds.size()], noisy_clip.data(), W, J, rng);
-        AddWindow(noisy_clip, J, 0, W, &batch);
+        if (b >= share.begin && b < share.end) AddWindow(noisy_clip, J, 0, W, &batch);
       }
-      const torch::Tensor y = norm.Normalise(batch.values.data(), B, W);
+      const torch::Tensor y = norm.Normalise(batch.values.data(), Bs, W);
       beta = AnnealedWeight(t.kl_start, t.kl_anneal_epochs,
                             epoch + static_cast<double>(it) / iterations);
       const DenoiseTerms terms = DenoiseObjective(net, norm, y, beta, t.bone_weight, gen);
-      OptimizerStep(adam, terms.loss, trained, t.grad_clip);
+      DataParallelStep(workers, adam, terms.loss, trained, weight, t.grad_clip);
       AddStep({terms.loss, terms.data, terms.kl_z, terms.kl_v, terms.bone},
               "Motion-DVAE fine-tuning", epoch, it, iterations, cb, sums);
     }
+    SumOverWorkers(workers, weight, sums);
+    workers.AverageBuffers(*net);
     net->eval();
     double held_loss = 0, err_noisy = 0, err_denoised = 0;
     {
@@ -300,7 +338,7 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
       err_denoised = cm(out);
     }
     const DvaeEpochLog log =
-        LogEpoch(out / "log.csv", epoch, beta, SecondsSince(epoch_start),
+        LogEpoch(out / "log.csv", workers.writes(), epoch, beta, SecondsSince(epoch_start),
                  {"loss", "data", "kl_z", "kl_v", "bone_cm2"}, sums, iterations,
                  {{"held_out_loss", held_loss},
                   {"held_out_noisy_cm", err_noisy},
@@ -309,15 +347,17 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
       best = held_loss;
       bad_epochs = 0;
       SetManifestInfo(&m.info, "finetune_epoch", std::to_string(epoch + 1));
-      SaveDvaeBundle(out_dir, m, net);
+      if (workers.writes()) SaveDvaeBundle(out_dir, m, net);
     } else {
       ++bad_epochs;
     }
     std::ostringstream st;
     st.precision(17);
     st << best << " " << bad_epochs << "\n";
-    SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1,
-                   {{state.filename().string(), st.str()}});
+    if (workers.writes()) {
+      SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1,
+                     {{state.filename().string(), st.str()}});
+    }
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }

@@ -16,6 +16,8 @@
 #include "eval/test_set.h"
 #include "generator/inference/forecaster.h"
 #include "generator/training/generator_predictor.h"
+#include "launch/worker_place.h"
+#include "torch_util/threads.h"
 #include "validity/pose_validator.h"
 
 namespace motionfork {
@@ -250,6 +252,8 @@ EvalExperiment RunEvalExperiment(const EvalExperimentOptions& o) {
 
   eval.num_samples = o.k;
   eval.seed = o.seed;
+  eval.threads = o.threads > 0 ? o.threads : CoresAvailable();
+  if (eval.threads > 1) PinThreads(1);  // threads over windows, each one single-threaded
   eval.keep_singleton_sets = protocol.keep_singleton_sets;
   std::unique_ptr<PoseValidator> validator;
   eval.scorers = MakeScorers(o, protocol, ts.skeleton, &validator);

@@ -71,7 +71,9 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
          2 * torch::bmm(padded, pred.view({Bh, K, T * N * 3}).transpose(1, 2)))
             .clamp_min(0);
     const torch::Tensor best = std::get<0>(err.min(2));  // [Bh, M]
-    add("multimodal", (best * b.pseudo_mask).sum() / b.pseudo_mask.sum(), w.multimodal);
+    const torch::Tensor sum = (best * b.pseudo_mask).sum();
+    add("multimodal", b.pseudo_norm > 0 ? sum * b.pseudo_norm : sum / b.pseudo_mask.sum(),
+        w.multimodal);
   } else {
     add("multimodal", torch::zeros({}), 0.0);
   }

@@ -21,6 +21,11 @@ struct LossBatch {
   std::vector<std::vector<int64_t>> part_nodes;  // nodes of each part
   std::vector<int64_t> node_parents;             // parent node per node, -1 = the root (origin)
   int64_t t_his = 0;
+  // 0: the multimodal term is the mean over this batch's pseudo futures. > 0: the batch is one
+  // worker's share of a data-parallel batch and the term is its sum times this, B / (Bs * C) for
+  // a batch of B histories, a share of Bs and C pseudo futures in the whole batch, so that the
+  // shares' terms weighted by Bs / B add up to the whole batch's mean.
+  double pseudo_norm = 0;
 };
 
 // Optional terms from other modules: scalar tensors from predicted poses.

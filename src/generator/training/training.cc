@@ -11,6 +11,7 @@
 #include "bundle/generator_net_bundle.h"
 #include "generator/model/latents.h"
 #include "torch_util/checkpoint.h"
+#include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"
 #include "torch_util/training_loop.h"
 
@@ -63,7 +64,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                             const LossHooks& hooks, const TrainCallbacks& cb,
                             int stop_after_epochs) {
   const TrainingOptions& t = config.training;
-  PinThreads(t.threads);
+  DataParallel& workers = TrainingWorkers();
+  PinThreads(workers.ThreadsPerWorker(t.threads));
   torch::manual_seed(t.seed);
   const Skeleton skeleton = Skeleton::Build(model.skeleton);
   const PartPlan plan = MakePartPlan(skeleton, model.generator.partition);
@@ -73,18 +75,28 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                                 " entries, the partition '" + plan.partition + "' has " +
                                 std::to_string(plan.num_parts()) + " parts");
   }
+  const int Bh = t.batch_histories;
+  workers.RequireBatch(Bh, "training.batch_histories");
   GeneratorNet net(model.generator, plan.nodes);
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
   TrainSummary summary;
-  summary.first_epoch = ResumeFromCheckpoint(ckpt, "generator.pt", *net, adam, out / "log.csv");
+  std::vector<double> resumed = {0};
+  if (workers.writes())
+    resumed[0] = ResumeFromCheckpoint(ckpt, "generator.pt", *net, adam, out / "log.csv");
+  workers.BroadcastTrainingState(*net, adam, &resumed);
+  summary.first_epoch = static_cast<int>(resumed[0]);
   if (summary.first_epoch > 0 && cb.message) {
     cb.message("resuming from " + ckpt.string() + " at epoch " +
                std::to_string(summary.first_epoch + 1));
   }
 
-  const int N = data.num_nodes, T = data.num_frames(), Bh = t.batch_histories;
+  const int N = data.num_nodes, T = data.num_frames();
   const int M = config.multimodal.max_per_window;
+  // This worker's share of every step's histories and the weight of its gradients.
+  const Share share = workers.BatchShare(Bh);
+  const int Bs = static_cast<int>(share.size());
+  const double weight = static_cast<double>(Bs) / Bh;
   std::vector<int64_t> node_parents(N);
   for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
   const int iterations = t.windows_per_epoch / Bh;
@@ -96,17 +108,23 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     const double lr = LearningRate(t, epoch);
     SetLearningRate(adam, lr);
     net->train();
+    // Every worker draws the whole step (windows, latents, prior frames) from the same seeded
+    // generators and keeps its share, so that the run does not depend on the number of workers.
     std::mt19937_64 rng(t.seed * 1000003ull + epoch);
     at::Generator gen = MakeGenerator(t.seed * 7919ull + epoch);
     std::uniform_int_distribution<int> pick(0, static_cast<int>(data.windows.size()) - 1);
     std::vector<std::pair<std::string, double>> sums;
+    std::vector<int> picked(Bh);
     for (int it = 0; it < iterations; ++it) {
-      torch::Tensor truth = torch::empty({Bh, T, N, 3});
-      torch::Tensor pseudo = torch::zeros({Bh, M, data.t_pred, N, 3});
-      torch::Tensor mask = torch::zeros({Bh, M});
+      for (int& w : picked) w = pick(rng);
+      torch::Tensor truth = torch::empty({Bs, T, N, 3});
+      torch::Tensor pseudo = torch::zeros({Bs, M, data.t_pred, N, 3});
+      torch::Tensor mask = torch::zeros({Bs, M});
       std::vector<float> other(static_cast<size_t>(T) * N * 3);
-      for (int b = 0; b < Bh; ++b) {
-        const int w = pick(rng);
+      int64_t pseudo_futures = 0;  // in the whole batch
+      for (int w : picked) pseudo_futures += std::min<int64_t>(M, data.multimodal[w].size());
+      for (int b = 0; b < Bs; ++b) {
+        const int w = picked[share.begin + b];
         float* dst = truth.data_ptr<float>() + static_cast<size_t>(b) * T * N * 3;
         data.Gather(w, dst);
         const auto& mm = data.multimodal[w];
@@ -119,7 +137,11 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
           mask[b][m] = 1.0f;
         }
       }
-      const auto z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);
+      std::vector<torch::Tensor> z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);
+      for (torch::Tensor& zp : z) {
+        const int64_t rows = zp.size(0) / Bh;  // latents per history
+        zp = zp.slice(0, share.begin * rows, share.end * rows);
+      }
       LossBatch batch{net->ForwardNested(truth.slice(1, 0, data.t_his), z, t.samples_per_part),
                       truth,
                       pseudo,
@@ -128,10 +150,12 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                       plan.nodes,
                       node_parents,
                       data.t_his};
+      if (workers.distributed() && pseudo_futures > 0)
+        batch.pseudo_norm = static_cast<double>(Bh) / (static_cast<double>(Bs) * pseudo_futures);
       const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
       const LossTerms terms =
           ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);
-      OptimizerStep(adam, terms.total, net->parameters(), t.grad_clip);
+      DataParallelStep(workers, adam, terms.total, net->parameters(), weight, t.grad_clip);
       if (sums.empty()) {
         sums.emplace_back("total", 0.0);
         for (const auto& [name, v] : terms.terms) sums.emplace_back(name, 0.0);
@@ -145,17 +169,28 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         cb.step(epoch, double(it + 1) / iterations, means);
       }
     }
-    for (auto& s : sums) s.second /= iterations;
+    // The epoch's mean terms over every worker's share (each weighted by its share).
+    std::vector<double> totals;
+    for (const auto& s : sums) totals.push_back(s.second * weight);
+    workers.SumValues(&totals);
+    for (size_t k = 0; k < sums.size(); ++k) sums[k].second = totals[k] / iterations;
+    workers.AverageBuffers(*net);
     const double seconds = SecondsSince(epoch_start);
-    AppendEpochLog(out / "log.csv", "lr", epoch, lr, seconds, sums);
-    // Bundle first, then the checkpoint that marks the epoch as done.
-    SaveGeneratorBundle(out_dir, model, net);
-    net->train();
-    SaveCheckpoint(ckpt.string(), "generator.pt", *net, adam, epoch + 1);
+    if (workers.writes()) {
+      AppendEpochLog(out / "log.csv", "lr", epoch, lr, seconds, sums);
+      // Bundle first, then the checkpoint that marks the epoch as done.
+      SaveGeneratorBundle(out_dir, model, net);
+      net->train();
+      SaveCheckpoint(ckpt.string(), "generator.pt", *net, adam, epoch + 1);
+    }
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(epoch, sums, seconds);
   }
   summary.seconds = SecondsSince(start);
+  summary.workers = workers.world_size();
+  summary.reduce_seconds = workers.reduce_seconds();
+  summary.steps = static_cast<int64_t>(summary.epochs_done - summary.first_epoch) * iterations;
+  for (const torch::Tensor& p : net->parameters()) summary.gradient_mb += p.numel() * 4e-6;
   return summary;
 }
 

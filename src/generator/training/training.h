@@ -5,6 +5,7 @@
 // continues exactly as an uninterrupted one.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <utility>
@@ -32,6 +33,10 @@ struct TrainSummary {
   int first_epoch = 0;  // > 0 when resumed
   int epochs_done = 0;
   double seconds = 0;
+  int workers = 1;            // processes in the run (data_parallel.h)
+  double reduce_seconds = 0;  // of `seconds`, in the gradient all-reduce (several workers)
+  int64_t steps = 0;          // optimiser steps of this run
+  double gradient_mb = 0;     // gradients all-reduced a step, MB
 };
 
 // model: protocol, skeleton and generator sizes (from the train config and the protocol). Writes

@@ -16,6 +16,7 @@
 #include "imputation/hgvae_tensors.h"
 #include "io/file_util.h"
 #include "torch_util/checkpoint.h"
+#include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"
 #include "torch_util/training_loop.h"
 
@@ -115,7 +116,8 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
                              const HgvaeData& data, const std::string& out_dir,
                              const HgvaeTrainCallbacks& cb, int stop_after_epochs) {
   const HgvaeTrainOptions& t = config.training;
-  PinThreads(t.threads);
+  DataParallel& workers = TrainingWorkers();
+  PinThreads(workers.ThreadsPerWorker(t.threads));
   torch::manual_seed(t.seed);
   HgvaeManifest m = base;
   m.model = config.model;
@@ -127,13 +129,22 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
   torch::optim::Adam adam(net->parameters(), torch::optim::AdamOptions(t.learning_rate));
   const fs::path out(out_dir), ckpt = out / "checkpoint";
   HgvaeTrainSummary summary;
-  summary.first_epoch = ResumeTraining(ckpt, "hgvae.pt", *net, adam, out / "log.csv", cb.message);
+  std::vector<double> resumed = {0};
+  if (workers.writes())
+    resumed[0] = ResumeTraining(ckpt, "hgvae.pt", *net, adam, out / "log.csv", cb.message);
+  workers.BroadcastTrainingState(*net, adam, &resumed);
+  summary.first_epoch = static_cast<int>(resumed[0]);
   std::vector<int> frames;
   for (const auto& p : data.train.poses) frames.push_back(static_cast<int>(p.size() / N));
   const std::vector<float> held = HeldOutWindows(data.held_out, T, N, t.held_out_windows);
   const int64_t num_held = static_cast<int64_t>(held.size() / (static_cast<size_t>(T) * N));
   const int C = static_cast<int>(m.classes.size());
   const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
+  // This worker's share of every step's windows (all workers draw the whole step).
+  workers.RequireBatch(B, "training.batch_size");
+  const Share share = workers.BatchShare(B);
+  const int Bs = static_cast<int>(share.size());
+  const double weight = static_cast<double>(Bs) / B;
   double log_det = 0;  // normalised -> metres: log p_metres(x) = log p_norm(x) - T * sum log std
   for (double s : m.std) log_det += T * std::log(s);
 
@@ -144,29 +155,34 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
     net->train();
     RandomWindowSampler sampler(frames, T, t.seed * 1000003ull + epoch);
     std::mt19937_64 rng(t.seed * 7919ull + epoch);
-    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch);
+    // The latents of each worker's share come from a generator of its own.
+    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(t.seed * 104729ull + epoch +
+                                                                 1000000007ull * workers.rank());
     std::bernoulli_distribution drop(m.model.label_dropout);
     double sum_loss = 0, sum_nll = 0, sum_kl = 0, beta = 0;
     std::vector<double> sum_levels(net->num_levels(), 0.0);
-    std::vector<float> batch(static_cast<size_t>(B) * T * N);
+    std::vector<float> batch(static_cast<size_t>(Bs) * T * N);
     for (int it = 0; it < iterations; ++it) {
       torch::Tensor labels;
-      if (C > 0) labels = torch::zeros({B, C});
+      if (C > 0) labels = torch::zeros({Bs, C});
       for (int b = 0; b < B; ++b) {
         const Window w = sampler.Next();
+        const bool labelled = C > 0 && !drop(rng);
+        if (b < share.begin || b >= share.end) continue;
+        const int i = b - static_cast<int>(share.begin);
         const float* p = data.train.poses[w.clip].data() + static_cast<size_t>(w.start) * N;
         std::copy(p, p + static_cast<size_t>(T) * N,
-                  batch.begin() + static_cast<size_t>(b) * T * N);
-        if (C > 0 && !drop(rng)) labels[b][data.train.labels[w.clip]] = 1.0f;
+                  batch.begin() + static_cast<size_t>(i) * T * N);
+        if (labelled) labels[i][data.train.labels[w.clip]] = 1.0f;
       }
-      const torch::Tensor x = norm.ToNodeMajor(batch.data(), B);
+      const torch::Tensor x = norm.ToNodeMajor(batch.data(), Bs);
       beta = AnnealedWeight(t.kl_start, t.kl_warmup_epochs,
                             epoch + static_cast<double>(it) / iterations);
       const HgvaeOutput o = net->forward(x, labels, LatentMode::kSample, gen);
       const torch::Tensor nll = -HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar).mean();
       const torch::Tensor kl = o.kl.mean();
       const torch::Tensor loss = nll + beta * kl;
-      OptimizerStep(adam, loss, net->parameters(), t.grad_clip);
+      DataParallelStep(workers, adam, loss, net->parameters(), weight, t.grad_clip);
       const double l = loss.item<double>(), n = nll.item<double>(), k = kl.item<double>();
       RequireFiniteLoss(l, "HG-VAE training", epoch);
       sum_loss += l;
@@ -178,8 +194,17 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
         cb.step(epoch, double(it + 1) / iterations, sum_loss / (it + 1), sum_nll / (it + 1),
                 sum_kl / (it + 1));
     }
-    // Held-out figures: ELBO (one posterior sample, fixed seed), reconstruction MSE, posterior
-    // score.
+    {  // the epoch's sums over every worker's share
+      std::vector<double> totals = {sum_loss, sum_nll, sum_kl};
+      totals.insert(totals.end(), sum_levels.begin(), sum_levels.end());
+      for (double& v : totals) v *= weight;
+      workers.SumValues(&totals);
+      sum_loss = totals[0], sum_nll = totals[1], sum_kl = totals[2];
+      std::copy(totals.begin() + 3, totals.end(), sum_levels.begin());
+    }
+    workers.AverageBuffers(*net);
+    // Held-out figures (every worker computes them alike): ELBO (one posterior sample, fixed seed),
+    // reconstruction MSE, posterior score.
     net->eval();
     double elbo = 0, mse = 0;
     std::vector<double> scores;
@@ -213,10 +238,12 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
     log.terms.emplace_back("held_out_mse_m2", mse / (static_cast<double>(num_held) * T * N));
     log.terms.emplace_back("held_out_score_mean", m.score_mean);
     log.terms.emplace_back("held_out_score_std", m.score_std);
-    AppendEpochLog(out / "log.csv", "kl_weight", epoch, beta, log.seconds, log.terms);
     SetManifestInfo(&m.info, "epochs_trained", std::to_string(epoch + 1));
-    SaveHgvaeBundle(out_dir, m, net);
-    SaveCheckpoint(ckpt.string(), "hgvae.pt", *net, adam, epoch + 1);
+    if (workers.writes()) {
+      AppendEpochLog(out / "log.csv", "kl_weight", epoch, beta, log.seconds, log.terms);
+      SaveHgvaeBundle(out_dir, m, net);
+      SaveCheckpoint(ckpt.string(), "hgvae.pt", *net, adam, epoch + 1);
+    }
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }

@@ -1,0 +1,108 @@
+// Data-parallel training over LibTorch's own distributed engine (c10d: a TCPStore for the
+// rendezvous, ProcessGroupGloo for the collectives), shared by every trainer (generator, pose
+// prior, HG-VAE, Motion-DVAE).
+//
+// One process per worker, placed by torchrun's environment (RANK, WORLD_SIZE, LOCAL_RANK,
+// LOCAL_WORLD_SIZE, MASTER_ADDR, MASTER_PORT), so cluster launchers that start PyTorch workers
+// start motionfork workers unchanged. Every worker draws the same global batch from the same
+// seeded generators and keeps its contiguous share of it (ShareOf); after the backward pass the
+// gradients are summed over the workers, each weighted by its share of the batch, in buckets (one
+// all-reduce per bucket), so that every worker takes the same optimiser step, and the step is the
+// one a single worker takes on the whole batch. Batch normalisation normalises each worker's own
+// share (PyTorch DDP's default); the running statistics are averaged over the workers before a
+// bundle or checkpoint is written (AverageBuffers), so they are identical on every worker.
+//
+// Rank 0 alone writes logs, checkpoints and bundles (writes()). A worker that dies makes the
+// others' next collective fail; the error names the rank that stopped (heartbeats in the store).
+#pragma once
+
+#include <torch/torch.h>
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "launch/worker_place.h"
+
+namespace motionfork {
+
+class DataParallel {
+ public:
+  // One worker: every collective is a no-op.
+  DataParallel();
+  // Joins the run `place` describes (world_size > 1): rendezvous at MASTER_ADDR:MASTER_PORT (rank
+  // 0 hosts the store), then a Gloo process group. Throws std::runtime_error when the master
+  // cannot be reached, the workers do not all arrive within `timeout`, two workers claim one rank
+  // or the workers disagree on WORLD_SIZE.
+  DataParallel(const WorkerPlace& place, std::chrono::milliseconds timeout);
+  ~DataParallel();
+  DataParallel(const DataParallel&) = delete;
+  DataParallel& operator=(const DataParallel&) = delete;
+
+  int rank() const { return place_.rank; }
+  int world_size() const { return place_.world_size; }
+  const WorkerPlace& place() const { return place_; }
+  bool distributed() const { return place_.world_size > 1; }
+  // True on rank 0, the worker that writes logs, checkpoints and bundles.
+  bool writes() const { return place_.rank == 0; }
+  // This worker's share of a global batch of n items.
+  Share BatchShare(int64_t n) const { return ShareOf(n, place_.rank, place_.world_size); }
+
+  // Refuses (std::invalid_argument) a batch of fewer items than workers: `key` names the setting.
+  void RequireBatch(int64_t batch, const std::string& key) const;
+
+  // LibTorch and OpenBLAS threads for this worker: `requested`, but no more than the cores divided
+  // by the workers on this machine (at least 1).
+  int ThreadsPerWorker(int requested) const;
+
+  // Gradients of `params` (undefined ones as zeros) replaced on every worker by
+  // sum over workers of weight_w * grad_w: weight = this worker's share of the batch / the batch,
+  // so that the result is the whole batch's gradient of a per-item mean. Buckets of at most
+  // kBucketBytes (one dtype each), one all-reduce each, all in flight together.
+  void ReduceGradients(const std::vector<torch::Tensor>& params, double weight);
+  // Rank 0's module and optimiser state (serialised) loaded on every worker; `values` (e.g. the
+  // epochs done) replaced by rank 0's.
+  void BroadcastTrainingState(torch::nn::Module& module, torch::optim::Optimizer& optimizer,
+                              std::vector<double>* values);
+  // Floating-point buffers (batch-norm running statistics) averaged over the workers; integer
+  // buffers (batch counts) copied from rank 0.
+  void AverageBuffers(torch::nn::Module& module);
+  // values[i] summed over the workers, in place.
+  void SumValues(std::vector<double>* values);
+  void Barrier();
+
+  // Wall seconds spent in ReduceGradients and the number of calls (benchmarks: the all-reduce's
+  // share of a step).
+  double reduce_seconds() const { return reduce_seconds_; }
+  int64_t reduce_calls() const { return reduce_calls_; }
+
+  static constexpr int64_t kBucketBytes = 25 << 20;                // as PyTorch DDP's bucket_cap_mb
+  void set_bucket_bytes(int64_t bytes) { bucket_bytes_ = bytes; }  // tests: many buckets
+
+ private:
+  struct Group;
+  // Runs a collective, turning a failure into an error naming the worker(s) that stopped.
+  template <typename F>
+  void Collective(const char* what, F&& run);
+
+  WorkerPlace place_;
+  std::unique_ptr<Group> group_;
+  int64_t bucket_bytes_ = kBucketBytes;
+  double reduce_seconds_ = 0;
+  int64_t reduce_calls_ = 0;
+};
+
+// The run this process belongs to, joined on first use from WorkerPlaceFromEnvironment() (one
+// worker when the environment names none), as torch.distributed's default group.
+DataParallel& TrainingWorkers();
+
+// The training step every trainer takes: gradients cleared, loss back-propagated, gradients
+// reduced over the workers (weight: this worker's share of the batch), the gradient norm over
+// params clipped to grad_clip (<= 0: no clipping), one step of optimizer.
+void DataParallelStep(DataParallel& workers, torch::optim::Optimizer& optimizer,
+                      const torch::Tensor& loss, const std::vector<torch::Tensor>& params,
+                      double weight, double grad_clip);
+
+}  // namespace motionfork
