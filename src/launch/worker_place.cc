@@ -73,6 +73,11 @@ std::chrono::milliseconds DistributedTimeout() {
   return std::chrono::milliseconds(1000LL * std::max(1, seconds));
 }
 
+std::chrono::milliseconds JoinTimeout() {
+  const int seconds = EnvInt("MOTIONFORK_JOIN_TIMEOUT", 600);
+  return std::chrono::milliseconds(1000LL * std::max(1, seconds));
+}
+
 Share ShareOf(int64_t n, int rank, int world_size) {
   const int64_t w = std::max(1, world_size), r = rank;
   return {n * r / w, n * (r + 1) / w};

@@ -27,9 +27,12 @@ WorkerPlace WorkerPlaceFromEnvironment();
 // True unless this process is a worker of rank > 0: rank 0 alone writes a run's files.
 bool IsRankZero();
 
-// How long a rendezvous or a collective may wait for the other workers: $MOTIONFORK_DIST_TIMEOUT
-// seconds, default 60.
+// How long a collective may wait for the other workers: $MOTIONFORK_DIST_TIMEOUT seconds, default
+// 60 (a worker that died is noticed at once; this bounds a network that went silent).
 std::chrono::milliseconds DistributedTimeout();
+// How long the rendezvous waits for every worker to arrive (each arrives once it has loaded its
+// data): $MOTIONFORK_JOIN_TIMEOUT seconds, default 600 (torchrun's join timeout).
+std::chrono::milliseconds JoinTimeout();
 
 // A contiguous share [begin, end) of n items; the shares of ranks 0..world-1 tile [0, n) in order
 // and differ in size by at most one.

@@ -100,7 +100,9 @@ struct DataParallel::Group {
 
 DataParallel::DataParallel() = default;
 
-DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout) : place_(place) {
+DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout,
+                           milliseconds join_timeout)
+    : place_(place) {
   if (place.world_size <= 1) return;
   group_ = std::make_unique<Group>();
   group_->timeout = timeout;
@@ -111,7 +113,7 @@ DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout) : pla
   o.port = static_cast<uint16_t>(place.master_port);
   o.isServer = place.rank == 0;
   o.waitWorkers = false;
-  o.timeout = timeout;
+  o.timeout = join_timeout;  // rank 0 serves the store once it has loaded its data
   try {
     group_->store = c10::make_intrusive<c10d::TCPStore>(place.master_addr, o);
   } catch (const std::exception& e) {
@@ -119,7 +121,7 @@ DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout) : pla
         who + ": " +
         (place.rank == 0 ? "cannot serve the rendezvous at " + where + " (MASTER_ADDR, MASTER_PORT)"
                          : "cannot reach the master (rank 0) at " + where + " within " +
-                               Seconds(timeout) + " (MASTER_ADDR, MASTER_PORT)") +
+                               Seconds(join_timeout) + " (MASTER_ADDR, MASTER_PORT)") +
         ": " + e.what());
   }
   c10d::Store& store = *group_->store;
@@ -133,13 +135,13 @@ DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout) : pla
     store.set(world_key, std::vector<uint8_t>(w.begin(), w.end()));
   }
   store.add(Key("joined"), 1);
-  const auto deadline = Clock::now() + timeout;
+  const auto deadline = Clock::now() + join_timeout;
   int64_t joined = 0;
   while ((joined = ReadCounter(store, Key("joined"))) < place.world_size) {
     if (Clock::now() > deadline) {
       throw std::runtime_error(who + ": only " + std::to_string(joined) +
                                " of WORLD_SIZE=" + std::to_string(place.world_size) +
-                               " workers reached " + where + " within " + Seconds(timeout) +
+                               " workers reached " + where + " within " + Seconds(join_timeout) +
                                " (is WORLD_SIZE right, and was every worker started?)");
     }
     std::this_thread::sleep_for(milliseconds(50));
@@ -347,8 +349,9 @@ void DataParallel::Barrier() {
 DataParallel& TrainingWorkers() {
   static std::unique_ptr<DataParallel> workers = [] {
     const WorkerPlace place = WorkerPlaceFromEnvironment();
-    return place.world_size > 1 ? std::make_unique<DataParallel>(place, DistributedTimeout())
-                                : std::make_unique<DataParallel>();
+    return place.world_size > 1
+               ? std::make_unique<DataParallel>(place, DistributedTimeout(), JoinTimeout())
+               : std::make_unique<DataParallel>();
   }();
   return *workers;
 }

@@ -33,10 +33,12 @@ class DataParallel {
   // One worker: every collective is a no-op.
   DataParallel();
   // Joins the run `place` describes (world_size > 1): rendezvous at MASTER_ADDR:MASTER_PORT (rank
-  // 0 hosts the store), then a Gloo process group. Throws std::runtime_error when the master
-  // cannot be reached, the workers do not all arrive within `timeout`, two workers claim one rank
-  // or the workers disagree on WORLD_SIZE.
-  DataParallel(const WorkerPlace& place, std::chrono::milliseconds timeout);
+  // 0 hosts the store), then a Gloo process group whose collectives wait at most `timeout`.
+  // Throws std::runtime_error when the master cannot be reached or the workers do not all arrive
+  // within `join_timeout` (workers join once they have loaded their data, which may take one
+  // machine longer than another), two workers claim one rank or they disagree on WORLD_SIZE.
+  DataParallel(const WorkerPlace& place, std::chrono::milliseconds timeout,
+               std::chrono::milliseconds join_timeout);
   ~DataParallel();
   DataParallel(const DataParallel&) = delete;
   DataParallel& operator=(const DataParallel&) = delete;

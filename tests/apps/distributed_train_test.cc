@@ -266,7 +266,7 @@ TEST_CASE("four workers on two nodes train; a killed worker stops the run; two w
 TEST_CASE("a worker with a wrong WORLD_SIZE or no master stops with a clear error") {
   Fixture f;
   const std::string config = f.Config("tiny.yaml", TinyConfig(false, 1, 8));
-  const std::string env = "MOTIONFORK_DIST_TIMEOUT=3 MASTER_ADDR=127.0.0.1 MASTER_PORT=" +
+  const std::string env = "MOTIONFORK_JOIN_TIMEOUT=3 MASTER_ADDR=127.0.0.1 MASTER_PORT=" +
                           std::to_string(motionfork::FreeLocalPort());
   Run r = RunShell(env + " WORLD_SIZE=3 RANK=0 " MOTIONFORK_BINARY " --cache-dir none " +
                    f.Train(config, f.dir.file("a")) + " 2>&1");

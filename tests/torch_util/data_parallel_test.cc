@@ -33,7 +33,8 @@ void OnWorkers(int world, const std::function<void(DataParallel&)>& body) {
   std::vector<std::future<void>> done;
   for (int r = 0; r < world; ++r) {
     done.push_back(std::async(std::launch::async, [=, &body] {
-      DataParallel workers(Place(r, world, port), std::chrono::seconds(20));
+      DataParallel workers(Place(r, world, port), std::chrono::seconds(20),
+                           std::chrono::seconds(20));
       body(workers);
       workers.Barrier();  // no worker leaves while another still talks to it
     }));
@@ -112,12 +113,12 @@ TEST_CASE("a worker that stops makes the other's next collective fail, naming it
   std::promise<void> rank1_gone;
   auto rank1 = std::async(std::launch::async, [&] {
     {
-      DataParallel workers(Place(1, 2, port), std::chrono::seconds(20));
+      DataParallel workers(Place(1, 2, port), std::chrono::seconds(20), std::chrono::seconds(20));
       workers.Barrier();
     }  // its connections close, as when a process dies
     rank1_gone.set_value();
   });
-  DataParallel workers(Place(0, 2, port), std::chrono::seconds(20));
+  DataParallel workers(Place(0, 2, port), std::chrono::seconds(20), std::chrono::seconds(20));
   workers.Barrier();
   rank1.get();
   const auto start = std::chrono::steady_clock::now();
@@ -131,10 +132,10 @@ TEST_CASE("a rendezvous short of WORLD_SIZE or without a master is a clear error
   const int port = motionfork::FreeLocalPort();
   // Rank 0 alone of three.
   REQUIRE_THROWS_WITH(
-      DataParallel(Place(0, 3, port), std::chrono::seconds(2)),
+      DataParallel(Place(0, 3, port), std::chrono::seconds(2), std::chrono::seconds(2)),
       Contains("only 1 of WORLD_SIZE=3 workers reached 127.0.0.1:" + std::to_string(port)));
   // Nobody serves the store.
-  REQUIRE_THROWS_WITH(
-      DataParallel(Place(1, 2, motionfork::FreeLocalPort()), std::chrono::seconds(2)),
-      Contains("cannot reach the master (rank 0) at 127.0.0.1:"));
+  REQUIRE_THROWS_WITH(DataParallel(Place(1, 2, motionfork::FreeLocalPort()),
+                                   std::chrono::seconds(2), std::chrono::seconds(2)),
+                      Contains("cannot reach the master (rank 0) at 127.0.0.1:"));
 }

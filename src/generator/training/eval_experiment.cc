@@ -253,7 +253,7 @@ EvalExperiment RunEvalExperiment(const EvalExperimentOptions& o) {
   eval.num_samples = o.k;
   eval.seed = o.seed;
   eval.threads = o.threads > 0 ? o.threads : CoresAvailable();
-  if (eval.threads > 1) PinThreads(1);  // threads over windows, each one single-threaded
+  PinThreads(1);  // threads over windows, each single-threaded: the same sums for any count
   eval.keep_singleton_sets = protocol.keep_singleton_sets;
   std::unique_ptr<PoseValidator> validator;
   eval.scorers = MakeScorers(o, protocol, ts.skeleton, &validator);

@@ -32,7 +32,7 @@ struct EvalExperimentOptions {
   std::string config_dir;   // protocols/, skeletons/, constraints/
   std::string models_dir;   // where shipped priors are looked up
   std::string cache_dir;    // parsed datasets and multimodal sets; "" = none
-  int threads = 0;          // windows measured at once; 0 = every core (LibTorch then pinned to 1)
+  int threads = 0;          // windows measured at once; 0 = every core (LibTorch pinned to 1 each)
   StageProgress progress;   // loading, reading clips, evaluating
 };
 
