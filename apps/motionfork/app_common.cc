@@ -94,7 +94,10 @@ void EpochBars::PrintEpoch(int epoch, double seconds,
   std::fflush(stdout);
 }
 
-void PrintMessage(const std::string& message) { std::printf("%s\n", message.c_str()); }
+void PrintMessage(const std::string& message) {
+  std::printf("%s\n", message.c_str());
+  std::fflush(stdout);  // in order with what worker processes print
+}
 
 void PrintText(const std::string& text) { std::fputs(text.c_str(), stdout); }
 
