@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "flow/flow_module.h"
 #include "io/file_util.h"
+#include "launch/worker_place.h"
 #include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"
 

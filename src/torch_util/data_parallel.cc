@@ -1,5 +1,7 @@
 #include "torch_util/data_parallel.h"
 
+#include "launch/worker_place.h"
+
 // Debian's LibTorch is built with Gloo; its header declares ProcessGroupGloo only under this macro.
 #ifndef USE_C10D_GLOO
 #define USE_C10D_GLOO 1
@@ -102,7 +104,10 @@ DataParallel::DataParallel() = default;
 
 DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout,
                            milliseconds join_timeout)
-    : place_(place) {
+    : rank_(place.rank),
+      world_size_(place.world_size),
+      local_world_size_(place.local_world_size),
+      place_(std::make_unique<WorkerPlace>(place)) {
   if (place.world_size <= 1) return;
   group_ = std::make_unique<Group>();
   group_->timeout = timeout;
@@ -205,29 +210,31 @@ void DataParallel::Collective(const char* what, F&& run) {
     // itself gone means rank 0 (which holds it) stopped.
     std::string stopped;
     try {
-      auto client = group_->Client(place_, milliseconds(5000));
-      std::vector<int64_t> before(place_.world_size), after(place_.world_size);
-      for (int r = 0; r < place_.world_size; ++r)
+      auto client = group_->Client(*place_, milliseconds(5000));
+      std::vector<int64_t> before(world_size_), after(world_size_);
+      for (int r = 0; r < world_size_; ++r)
         before[r] = ReadCounter(*client, Key("heartbeat/" + std::to_string(r)));
       std::this_thread::sleep_for(kHeartbeatWindow);
-      for (int r = 0; r < place_.world_size; ++r) {
+      for (int r = 0; r < world_size_; ++r) {
         after[r] = ReadCounter(*client, Key("heartbeat/" + std::to_string(r)));
-        if (r != place_.rank && after[r] == before[r])
+        if (r != rank_ && after[r] == before[r])
           stopped += (stopped.empty() ? "rank " : ", rank ") + std::to_string(r);
       }
-      if (place_.rank == 0) std::this_thread::sleep_for(kHeartbeatWindow);  // others read too
+      if (rank_ == 0) std::this_thread::sleep_for(kHeartbeatWindow);  // others read too
     } catch (const std::exception&) {
-      if (place_.rank != 0) stopped = "rank 0 (the master, which holds the rendezvous store)";
+      if (rank_ != 0) stopped = "rank 0 (the master, which holds the rendezvous store)";
     }
     group_->stop = true;
-    throw std::runtime_error("worker rank " + std::to_string(place_.rank) + " of " +
-                             std::to_string(place_.world_size) + ": the " + what + " failed: " +
+    throw std::runtime_error("worker rank " + std::to_string(rank_) + " of " +
+                             std::to_string(world_size_) + ": the " + what + " failed: " +
                              (stopped.empty()
                                   ? std::string("a worker stopped or the network failed")
                                   : stopped + " stopped") +
                              "; stopping (" + e.what() + ")");
   }
 }
+
+Share DataParallel::BatchShare(int64_t n) const { return ShareOf(n, rank_, world_size_); }
 
 void DataParallel::RequireBatch(int64_t batch, const std::string& key) const {
   if (batch < world_size()) {
@@ -238,7 +245,7 @@ void DataParallel::RequireBatch(int64_t batch, const std::string& key) const {
 }
 
 int DataParallel::ThreadsPerWorker(int requested) const {
-  const int cap = std::max(1, CoresAvailable() / std::max(1, place_.local_world_size));
+  const int cap = std::max(1, CoresAvailable() / std::max(1, local_world_size_));
   return std::max(1, std::min(requested, cap));
 }
 

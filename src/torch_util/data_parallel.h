@@ -24,9 +24,10 @@
 #include <string>
 #include <vector>
 
-#include "launch/worker_place.h"
-
 namespace motionfork {
+
+struct Share;        // launch/worker_place.h
+struct WorkerPlace;  // launch/worker_place.h
 
 class DataParallel {
  public:
@@ -43,14 +44,13 @@ class DataParallel {
   DataParallel(const DataParallel&) = delete;
   DataParallel& operator=(const DataParallel&) = delete;
 
-  int rank() const { return place_.rank; }
-  int world_size() const { return place_.world_size; }
-  const WorkerPlace& place() const { return place_; }
-  bool distributed() const { return place_.world_size > 1; }
+  int rank() const { return rank_; }
+  int world_size() const { return world_size_; }
+  bool distributed() const { return world_size_ > 1; }
   // True on rank 0, the worker that writes logs, checkpoints and bundles.
-  bool writes() const { return place_.rank == 0; }
+  bool writes() const { return rank_ == 0; }
   // This worker's share of a global batch of n items.
-  Share BatchShare(int64_t n) const { return ShareOf(n, place_.rank, place_.world_size); }
+  Share BatchShare(int64_t n) const;
 
   // Refuses (std::invalid_argument) a batch of fewer items than workers: `key` names the setting.
   void RequireBatch(int64_t batch, const std::string& key) const;
@@ -89,7 +89,8 @@ class DataParallel {
   template <typename F>
   void Collective(const char* what, F&& run);
 
-  WorkerPlace place_;
+  int rank_ = 0, world_size_ = 1, local_world_size_ = 1;
+  std::unique_ptr<const WorkerPlace> place_;  // set when distributed
   std::unique_ptr<Group> group_;
   int64_t bucket_bytes_ = kBucketBytes;
   double reduce_seconds_ = 0;

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "launch/worker_launcher.h"
+#include "launch/worker_place.h"
 
 using Catch::Contains;
 using motionfork::DataParallel;

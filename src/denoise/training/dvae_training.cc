@@ -17,6 +17,7 @@
 #include "dataset/windows.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
+#include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"

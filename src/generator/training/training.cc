@@ -10,6 +10,7 @@
 #include "bodyparts/part_plan.h"
 #include "bundle/generator_net_bundle.h"
 #include "generator/model/latents.h"
+#include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"

@@ -15,6 +15,7 @@
 #include "imputation/hgvae_model.h"
 #include "imputation/hgvae_tensors.h"
 #include "io/file_util.h"
+#include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/data_parallel.h"
 #include "torch_util/threads.h"
