@@ -8,6 +8,7 @@
 #include "experiment_common.h"
 #include "flags.h"
 #include "imputation/training/hgvae_training.h"
+#include "imputation/training/hgvae_training_text.h"
 
 namespace motionfork::app {
 namespace {
@@ -43,29 +44,13 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, GlobalOptions& g) {
   const HgvaeManifest base = HgvaeTrainingManifest(cfg, protocol, *ds.skeleton.skeleton);
   cfg.model = ResolveHgvaeOptions(cfg.model, coords, protocol.t_his);
   const HgvaeData data = MakeHgvaeData(ds, cfg.training, cfg.model.window);
-  std::printf(
-      "HG-VAE: windows of %d frames x %d coordinates; %zu training clips (%s frames), %zu held "
-      "out%s\n",
-      cfg.model.window, coords, data.train.poses.size(), WithThousands(data.train_frames()).c_str(),
-      data.held_out.poses.size(),
-      data.classes.empty()
-          ? ""
-          : (", " + std::to_string(data.classes.size()) + " action classes").c_str());
+  PrintText(HgvaeDataText(data, cfg.model.window));
   EpochBars bars(cfg.training.epochs, !g.quiet);
   const HgvaeTrainSummary s =
       TrainHgvae(cfg, base, data, run.out, EpochReports(&bars), run.stop_after);
-  if (s.first_epoch >= cfg.training.epochs) {
-    if (IsRankZero()) RefreshBundleSettings(run.out, data, cfg);
-    std::printf(
-        "all %d epochs were trained already; imputation defaults, OoD score and its statistics "
-        "(%s) "
-        "refreshed from the config; bundle: %s\n",
-        cfg.training.epochs, ToString(cfg.ood_score), run.out.c_str());
-    return;
-  }
-  std::printf("trained epochs %d..%d in %s; bundle: %s (hgvae.yaml, hgvae.pt), log: %s/log.csv\n",
-              s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), run.out.c_str(),
-              run.out.c_str());
+  if (s.first_epoch >= cfg.training.epochs && IsRankZero())
+    RefreshBundleSettings(run.out, data, cfg);
+  PrintText(HgvaeTrainingDoneText(s, cfg, run.out));
 }
 
 }  // namespace

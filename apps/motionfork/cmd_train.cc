@@ -11,6 +11,7 @@
 #include "generator/training/training.h"
 #include "generator/training/training_manifest.h"
 #include "generator/training/training_setup.h"
+#include "generator/training/training_text.h"
 #include "validity/pose_validator.h"
 
 namespace motionfork::app {
@@ -21,33 +22,12 @@ struct TrainOptions {
   TrainingRunFlags run;
 };
 
-// Loss term names as the progress bar shows them.
-std::string ShortTermName(const std::string& name) {
-  static const std::pair<const char*, const char*> kShort[] = {
-      {"total", "loss"},       {"past_reconstruction", "past"},
-      {"limb_length", "limb"}, {"diversity_", "div"},
-      {"best_of_many", "bom"}, {"multimodal", "mm"},
-      {"prior_nll", "prior"},  {"angle", "angle"}};
-  for (const auto& [full, brief] : kShort) {
-    if (name.rfind(full, 0) == 0) return brief + name.substr(std::string(full).size());
-  }
-  return name;
-}
-
 // Per-step progress bar and per-epoch lines.
 TrainCallbacks EpochReports(EpochBars* bars) {
   TrainCallbacks cb;
   cb.step = [bars](int epoch, double fraction,
                    const std::vector<std::pair<std::string, double>>& terms) {
-    // Every loss term, in short: "loss 0.43 rec 0.0011 limb 0.0002 div0 0.0063 ...".
-    std::string detail;
-    for (const auto& [name, v] : terms) {
-      char buf[48];
-      std::snprintf(buf, sizeof(buf), "%s%s %.3g", detail.empty() ? "" : " ",
-                    ShortTermName(name).c_str(), v);
-      detail += buf;
-    }
-    bars->Update(epoch, fraction, detail);
+    bars->Update(epoch, fraction, TrainingTermsText(terms));
   };
   cb.epoch = [bars](int epoch, const std::vector<std::pair<std::string, double>>& terms,
                     double seconds) { bars->PrintEpoch(epoch, seconds, terms, 4); };
@@ -88,25 +68,7 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   EpochBars bars(cfg.training.epochs, !g.quiet);
   const TrainSummary s =
       TrainGenerator(cfg, model, data, run.out, losses.hooks, EpochReports(&bars), run.stop_after);
-  if (s.first_epoch >= cfg.training.epochs) {
-    std::printf(
-        "all %d epochs were trained already; bundle: %s (constraints.yaml and prior/ copied "
-        "again), log: "
-        "%s/log.csv\n",
-        cfg.training.epochs, run.out.c_str(), run.out.c_str());
-    return;
-  }
-  std::printf(
-      "trained epochs %d..%d in %s; bundle: %s (model.yaml, generator.pt), log: %s/log.csv\n",
-      s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), run.out.c_str(),
-      run.out.c_str());
-  if (s.workers > 1) {
-    std::printf(
-        "gradient all-reduce: %.2f s of %.2f s (%.1f%%), %lld steps, %.3f MB of gradients "
-        "a step, %d workers\n",
-        s.reduce_seconds, s.seconds, 100 * s.reduce_seconds / s.seconds,
-        static_cast<long long>(s.steps), s.gradient_mb, s.workers);
-  }
+  PrintText(TrainingDoneText(s, cfg.training.epochs, run.out));
 }
 
 }  // namespace

@@ -47,11 +47,7 @@ int main(int argc, char** argv) {
   }
   std::string worker;  // "rank N: " in a run of several workers, whose rank 0 alone prints
   try {
-    if (const motionfork::WorkerPlace place = motionfork::WorkerPlaceFromEnvironment();
-        place.world_size > 1) {
-      worker = "rank " + std::to_string(place.rank) + ": ";
-      if (place.rank != 0 && std::freopen("/dev/null", "w", stdout)) global.quiet = true;
-    }
+    worker = motionfork::FollowRankZeroOutput(&global.quiet);
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (const std::string fix = SuggestFix(app, argc, argv); !fix.empty()) {

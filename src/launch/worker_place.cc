@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <thread>
@@ -64,6 +65,13 @@ WorkerPlace WorkerPlaceFromEnvironment() {
         EnvText("MASTER_PORT") + "'");
   }
   return p;
+}
+
+std::string FollowRankZeroOutput(bool* quiet) {
+  const WorkerPlace place = WorkerPlaceFromEnvironment();
+  if (place.world_size <= 1) return "";
+  if (place.rank != 0 && std::freopen("/dev/null", "w", stdout)) *quiet = true;
+  return "rank " + std::to_string(place.rank) + ": ";
 }
 
 bool IsRankZero() { return WorkerPlaceFromEnvironment().rank == 0; }

@@ -27,6 +27,12 @@ WorkerPlace WorkerPlaceFromEnvironment();
 // True unless this process is a worker of rank > 0: rank 0 alone writes a run's files.
 bool IsRankZero();
 
+// In a run of several workers (WorkerPlaceFromEnvironment), rank 0 alone prints: a worker of
+// another rank sends its standard output to /dev/null (errors stay on standard error) and sets
+// *quiet (no progress bars). Returns "rank N: " to put before this worker's error messages, ""
+// for one worker.
+std::string FollowRankZeroOutput(bool* quiet);
+
 // How long a collective may wait for the other workers: $MOTIONFORK_DIST_TIMEOUT seconds, default
 // 60 (a worker that died is noticed at once; this bounds a network that went silent).
 std::chrono::milliseconds DistributedTimeout();

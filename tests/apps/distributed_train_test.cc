@@ -210,7 +210,7 @@ TEST_CASE("with batch norm, two workers' loss curve stays within one worker's se
   }
 }
 
-TEST_CASE("four workers on two nodes train; a killed worker stops the run; two workers resume") {
+TEST_CASE("four workers on two nodes train, a killed worker stops the run, two workers resume") {
   Fixture f;
   const std::string config = f.Config("long.yaml", TinyConfig(true, 30, 400));
   const std::string out = f.dir.file("run"), log = out + "/log.csv";

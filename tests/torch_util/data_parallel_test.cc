@@ -81,7 +81,7 @@ TEST_CASE("gradients are summed over workers, weighted by their shares, in many 
   });
 }
 
-TEST_CASE("rank 0's training state reaches every worker; buffers are averaged, counts copied") {
+TEST_CASE("rank 0's training state reaches every worker, buffers are averaged, counts copied") {
   OnWorkers(2, [](DataParallel& workers) {
     torch::manual_seed(workers.rank() + 1);  // different weights on each worker
     torch::nn::Sequential net(torch::nn::Linear(3, 4), torch::nn::BatchNorm1d(4));
