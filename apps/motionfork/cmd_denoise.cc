@@ -52,15 +52,15 @@ void AddDenoiseOverrides(CLI::App* cmd, DenoiseOverrides* f) {
 struct DenoiseCmd {
   std::string model, motion, out, noise;
   uint64_t noise_seed = 0;
-  int threads = 1;
+  int threads = 0;
   DenoiseOverrides flags;
   MotionInputOptions input;
 };
 
 void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   RequireMotion(o.motion);
-  PinThreads(o.threads);
-  const DvaeModel model = LoadDvaeModel(o.model);
+  DvaeModel model = LoadDvaeModel(o.model);
+  model.set_threads(WindowThreads(o.threads));
   const MotionWithGaps in =
       LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
   pipeline::RequireComplete(o.motion, in.missing,
@@ -104,7 +104,7 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
 // ---- dvae eval ----
 struct EvalCmd {
   std::string model, data, split_file, forecaster, json_out;
-  int threads = 1;
+  int threads = 0;
   DvaeEvalOptions eval;
   DenoiseOverrides flags;
 };
@@ -117,18 +117,18 @@ void PrintProgress(const EvalCmd& o, const DvaeModel& model, const DvaeEvaluatio
 }
 
 void RunEval(EvalCmd o, const GlobalOptions& g) {
-  PinThreads(o.threads);
-  const DvaeModel model = LoadDvaeModel(o.model);
+  DvaeModel model = LoadDvaeModel(o.model);
+  model.set_threads(WindowThreads(o.threads));
   const Dataset ds = LoadProtocolDataset(model.manifest().protocol, o.data, o.split_file, g);
   o.eval.denoise = o.flags.Apply(model.manifest().denoise);
-  o.eval.forecaster = LoadHistoryForecaster(o.forecaster, o.eval.k, o.eval.seed);
+  o.eval.forecaster = LoadHistoryForecaster(o.forecaster, o.eval.k, o.eval.seed, model.threads());
   ProgressBar bar("noise settings", !g.quiet);
   const DvaeEvaluation e = EvaluateDvae(model, ds, o.eval, [&](const DvaeEvaluation& partial) {
     PrintProgress(o, model, partial);
     bar.Update(double(partial.settings.size()) / o.eval.noises.size());
   });
   bar.Finish();
-  PrintText(DvaeEvaluationFooterText(e, o.eval, o.threads));
+  PrintText(DvaeEvaluationFooterText(e, o.eval, model.threads()));
   EmitJson(o.json_out, DvaeEvaluationJson(e, o.model));
 }
 

@@ -85,9 +85,7 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       "--no-repair", o->no_repair,
       "With --model: score the network's raw futures, without moving poses that break the "
       "bundle's angle ranges back inside them");
-  cmd->add_option("--threads", e.threads,
-                  "Windows measured at once (default: every core); the figures do not change")
-      ->check(PositiveNumber);
+  AddThreadsOption(cmd, &e.threads);
   AddJsonOption(cmd, &o->json, "Every figure");
 }
 

@@ -21,6 +21,7 @@
 #include "imputation/training/hgvae_evaluation_text.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
+#include "torch_util/threads.h"
 
 namespace motionfork::app {
 namespace {
@@ -119,16 +120,18 @@ void RunSample(const SampleCmd& o, const GlobalOptions&) {
 // ---- hgvae eval ----
 struct EvalCmd {
   std::string model, data, split_file, forecaster, json_out;
+  int threads = 0;
   HgvaeEvalOptions eval;
   ImputeOverrides flags;
 };
 
 void RunEval(EvalCmd o, const GlobalOptions& g) {
-  const HgvaeModel model = LoadHgvaeModel(o.model);
+  HgvaeModel model = LoadHgvaeModel(o.model);
+  model.set_threads(WindowThreads(o.threads));
   const HgvaeManifest& m = model.manifest();
   const Dataset ds = LoadProtocolDataset(m.protocol, o.data, o.split_file, g);
   o.eval.impute = o.flags.Apply(m.impute);
-  o.eval.forecaster = LoadHistoryForecaster(o.forecaster, o.eval.k, o.eval.seed);
+  o.eval.forecaster = LoadHistoryForecaster(o.forecaster, o.eval.k, o.eval.seed, model.threads());
   StageBars bars(!g.quiet);
   o.eval.progress = bars.Callback();
   const HgvaeEvaluation e = EvaluateHgvae(model, ds, o.eval);
@@ -205,6 +208,7 @@ and with --forecaster the forecasting ADE/FDE from clean, mean-imputed and imput
                        "Protocol test windows for them (default 500)");
   cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)")->check(Seed);
   cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
+  AddThreadsOption(cmd, &o->threads);
   AddImputeOverrides(cmd, &o->flags);
   AddJsonOption(cmd, &o->json_out, "Every figure");
 }

@@ -1,30 +1,35 @@
 // motionfork predict: K futures of a history with a trained model bundle (pipeline/predict.h).
+#include <string>
+#include <vector>
+
 #include "app_common.h"
 #include "commands.h"
 #include "flags.h"
-#include "io/prediction_file.h"
 #include "motion_options.h"
-#include "pipeline/predict.h"
-#include "pipeline/predict_text.h"
+#include "pipeline/predict_to_files.h"
+#include "torch_util/threads.h"
 
 namespace motionfork::app {
 namespace {
 
 struct PredictOptions {
   pipeline::PredictFiles files;
+  std::vector<std::string> histories;
   bool no_repair = false;
+  int threads = 0;
   std::string out;
 };
 
 void RunPredict(PredictOptions o, const GlobalOptions& g) {
-  RequireMotion(o.files.history);
+  RequireMotion(o.histories.empty() ? "" : o.histories[0]);
   o.files.input.config_dir = ConfigDir(g.config_dir);
   o.files.request.repair = !o.no_repair;
-  pipeline::PredictNotes notes;
-  const Prediction p = pipeline::PredictFromFiles(o.files, &notes);
-  NoteResampling(o.files.history, notes.resampled_from, p.fps);
-  PrintText(pipeline::PredictionRepairsText(p));
-  PrintText(pipeline::PredictionWrittenText(p, WritePrediction(o.out, p), notes));
+  ProgressBar bar("predicting", o.histories.size() > 1 && !g.quiet);
+  const std::string report =
+      pipeline::PredictToFiles(o.files, o.histories, o.out, WindowThreads(o.threads),
+                               [&bar](double done) { bar.Update(done); });
+  bar.Finish();
+  PrintText(report);
 }
 
 }  // namespace
@@ -35,10 +40,15 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
                                     R"(Predict K futures of a history with a trained model bundle.
 Writes OUT.npy [K, t_his + t_pred, J, 3] (each sample: the history, then its future; metres;
 the root stays where the history ended: models predict root-relative poses) and OUT.json
-(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).)");
+(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).
+Several motion files: OUT is a folder, OUT/NAME.npy and OUT/NAME.json per file, each file's
+futures the same as predicted alone, files shared by --threads.)");
   AddModelOption(cmd, &o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)");
-  AddMotionArgument(cmd, &o->files.history, "Motion file holding the history (.bvh, .npy, .csv)",
-                    "--history");
+  cmd->add_option("MOTION", o->histories,
+                  "Motion file(s) holding the history (.bvh, .npy, .csv); several: OUT is a folder")
+      ->check(InputFile);
+  AddDeprecatedOption(cmd, "--history", "the motion file as the first argument", &o->histories)
+      ->check(InputFile);
   cmd->add_option("--start", o->files.start,
                   "First history frame (default: the last t_his frames of the file)")
       ->check(NonNegativeNumber);
@@ -65,7 +75,9 @@ the root stays where the history ended: models predict root-relative poses) and 
                   "Motion-DVAE bundle (e.g. models/bandai/dvae) denoising the history first (after "
                   "--impute), with\n"
                   "up to one model window of earlier frames as context");
-  AddOutOption(cmd, &o->out, "Output path (OUT.npy and OUT.json are written)");
+  AddOutOption(cmd, &o->out,
+               "Output path (OUT.npy and OUT.json are written; a folder for several files)");
+  AddThreadsOption(cmd, &o->threads);
   AddMotionInputOptions(cmd, &o->files.input);
 }
 

@@ -110,7 +110,9 @@ CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& h
 }
 
 void AddThreadsOption(CLI::App* cmd, int* threads) {
-  cmd->add_option("--threads", *threads, "Threads (default 1)")->check(PositiveNumber);
+  cmd->add_option("--threads", *threads,
+                  "Threads sharing the windows (default: every core); the results do not change")
+      ->check(PositiveNumber);
 }
 
 void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,

@@ -84,7 +84,8 @@ void AddDataOptions(CLI::App* cmd, std::string* dir, std::string* split_file,
                     const std::string& data_help);
 // -o,--out FILE, required.
 CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& help);
-// --threads N (default 1).
+// --threads N: threads sharing the windows (0, the default, = every core; experiment_common.h
+// WindowThreads).
 void AddThreadsOption(CLI::App* cmd, int* threads);
 // --forecaster BUNDLE, --forecast-windows N, -k K: the forecasting figures of the history-repair
 // experiments.

@@ -6,6 +6,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "core/parallel_for.h"
 #include "denoise/dvae_net.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
@@ -37,6 +38,12 @@ int DvaeModel::joints() const { return impl_->skeleton->num_joints(); }
 
 int64_t DvaeModel::num_parameters() const { return CountParameters(*impl_->net); }
 
+void DvaeModel::set_threads(int threads) {
+  if (threads < 1)
+    throw std::invalid_argument("DvaeModel: expected >= 1 thread, got " + std::to_string(threads));
+  threads_ = threads;
+}
+
 DvaeModel DvaeModel::FromNet(DvaeManifest manifest, DvaeNet net) {
   DvaeModel model;
   model.impl_ = std::make_shared<Impl>(std::move(manifest), std::move(net));
@@ -46,6 +53,18 @@ DvaeModel DvaeModel::FromNet(DvaeManifest manifest, DvaeNet net) {
 namespace {
 
 constexpr int64_t kChunk = 256;  // windows per pass
+
+// A network of its own with the same weights (optimisation mode changes a copy's encoder only).
+DvaeNet CopyNet(const DvaeManifest& manifest, const DvaeNet& from) {
+  DvaeNet net = BuildDvaeNet(manifest);
+  torch::NoGradGuard no_grad;
+  const auto src = from->named_parameters(), src_buffers = from->named_buffers();
+  for (auto& p : net->named_parameters()) p.value().copy_(src[p.key()]);
+  for (auto& b : net->named_buffers()) b.value().copy_(src_buffers[b.key()]);
+  for (torch::Tensor& p : net->DecoderParameters()) p.set_requires_grad(false);
+  net->eval();
+  return net;
+}
 
 void CheckSequences(const std::vector<std::vector<float>>& sequences, int joints) {
   const size_t F = static_cast<size_t>(joints) * 3;
@@ -90,57 +109,74 @@ std::vector<std::vector<float>> DvaeModel::Denoise(
   for (size_t w = 0; w < cuts.size(); ++w)
     groups[{optimise ? cuts[w].sequence : -1, cuts[w].length}].push_back(w);
 
-  at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(options.seed);
+  // Work items: chunks of the groups, each with its own generator (ItemSeed(seed, item)), shared
+  // by the threads; optimisation mode changes the encoder, so each extra thread has its own copy.
+  struct Item {
+    const std::vector<size_t>* members;
+    int64_t length;
+    size_t c0, c1;
+  };
+  std::vector<Item> items;
+  for (const auto& [key, members] : groups) {
+    for (size_t c0 = 0; c0 < members.size(); c0 += kChunk)
+      items.push_back(
+          {&members, key.second, c0, std::min(members.size(), c0 + static_cast<size_t>(kChunk))});
+  }
+  const int threads = std::max(1, std::min<int>(threads_, static_cast<int>(items.size())));
+  std::vector<DvaeNet> nets{i.net};
+  for (int t = 1; t < threads; ++t) nets.push_back(optimise ? CopyNet(i.manifest, i.net) : i.net);
+  std::vector<std::vector<double>> joint_vars(items.size());
+  std::mutex progress_lock;
+  size_t done = 0;
+  ParallelFor(static_cast<int>(items.size()), threads, [&](int item, int worker) {
+    const Item& it = items[static_cast<size_t>(item)];
+    DvaeNet& net = nets[static_cast<size_t>(worker)];
+    at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(ItemSeed(options.seed, item));
+    const int64_t L = it.length;
+    std::vector<float> batch;
+    for (size_t k = it.c0; k < it.c1; ++k)
+      batch.insert(batch.end(), values[(*it.members)[k]].begin(), values[(*it.members)[k]].end());
+    const int64_t B = static_cast<int64_t>(it.c1 - it.c0);
+    const torch::Tensor y = i.norm->Normalise(batch.data(), B, L);  // a new tensor, not a view
+    std::vector<torch::Tensor> encoder, saved;
+    if (optimise) {
+      // Adam on this sequence's own unsupervised loss, from the bundle's weights; restored after.
+      encoder = net->EncoderParameters();
+      for (const torch::Tensor& p : encoder) saved.push_back(p.detach().clone());
+      net->train();
+      torch::optim::Adam adam(encoder, torch::optim::AdamOptions(options.learning_rate));
+      for (int step = 0; step < options.iterations; ++step) {
+        const DenoiseTerms t = DenoiseObjective(net, *i.norm, y, 1.0, options.bone_weight, gen);
+        adam.zero_grad();
+        t.loss.backward();
+        adam.step();
+      }
+      net->eval();
+    }
+    torch::NoGradGuard no_grad;
+    torch::Tensor var;
+    const torch::Tensor out =
+        DenoiseOutput(net, *i.norm, y, options.samples, options.fuse, gen, &var);
+    for (size_t p = 0; p < saved.size(); ++p) encoder[p].copy_(saved[p]);
+    const std::vector<float> metres = i.norm->Denormalise(out);
+    for (size_t k = it.c0; k < it.c1; ++k) {
+      const size_t off = (k - it.c0) * static_cast<size_t>(L) * F;
+      values[(*it.members)[k]].assign(metres.begin() + off,
+                                      metres.begin() + off + static_cast<size_t>(L) * F);
+    }
+    const torch::Tensor joint_var =
+        (var * i.norm->std().pow(2)).reshape({B * L, J, 3}).sum(2).sum(0).to(torch::kFloat64);
+    joint_vars[static_cast<size_t>(item)].assign(joint_var.data_ptr<double>(),
+                                                 joint_var.data_ptr<double>() + J);
+    std::lock_guard<std::mutex> guard(progress_lock);
+    done += static_cast<size_t>(B);
+    if (progress) progress(static_cast<double>(done) / cuts.size());
+  });
   std::vector<double> noise_sum(J, 0.0);
   double noise_count = 0;
-  std::vector<torch::Tensor> encoder = i.net->EncoderParameters(), saved;
-  size_t done = 0;
-  for (const auto& [key, members] : groups) {
-    const int64_t L = key.second;
-    for (size_t c0 = 0; c0 < members.size(); c0 += kChunk) {
-      const size_t c1 = std::min(members.size(), c0 + static_cast<size_t>(kChunk));
-      std::vector<float> batch;
-      for (size_t k = c0; k < c1; ++k)
-        batch.insert(batch.end(), values[members[k]].begin(), values[members[k]].end());
-      const int64_t B = static_cast<int64_t>(c1 - c0);
-      const torch::Tensor y =
-          i.norm->Normalise(batch.data(), B, L);  // a new tensor, not a view of batch
-      if (optimise) {
-        // Adam on this sequence's own unsupervised loss, from the bundle's weights; restored after.
-        saved.clear();
-        for (const torch::Tensor& p : encoder) saved.push_back(p.detach().clone());
-        i.net->train();
-        torch::optim::Adam adam(encoder, torch::optim::AdamOptions(options.learning_rate));
-        for (int it = 0; it < options.iterations; ++it) {
-          const DenoiseTerms t = DenoiseObjective(i.net, *i.norm, y, 1.0, options.bone_weight, gen);
-          adam.zero_grad();
-          t.loss.backward();
-          adam.step();
-        }
-        i.net->eval();
-      }
-      torch::Tensor out, var;
-      {
-        torch::NoGradGuard no_grad;
-        out = DenoiseOutput(i.net, *i.norm, y, options.samples, options.fuse, gen, &var);
-      }
-      if (optimise) {
-        torch::NoGradGuard no_grad;
-        for (size_t p = 0; p < encoder.size(); ++p) encoder[p].copy_(saved[p]);
-      }
-      const std::vector<float> metres = i.norm->Denormalise(out);
-      for (size_t k = c0; k < c1; ++k) {
-        const size_t off = (k - c0) * static_cast<size_t>(L) * F;
-        values[members[k]].assign(metres.begin() + off,
-                                  metres.begin() + off + static_cast<size_t>(L) * F);
-      }
-      const torch::Tensor joint_var =
-          (var * i.norm->std().pow(2)).reshape({B * L, J, 3}).sum(2).sum(0);
-      for (int j = 0; j < J; ++j) noise_sum[j] += joint_var[j].item<double>() / 3.0;
-      noise_count += static_cast<double>(B * L);
-      done += static_cast<size_t>(B);
-      if (progress) progress(static_cast<double>(done) / cuts.size());
-    }
+  for (size_t k = 0; k < items.size(); ++k) {  // in item order, whatever the threads
+    for (int j = 0; j < J; ++j) noise_sum[j] += joint_vars[k][static_cast<size_t>(j)] / 3.0;
+    noise_count += static_cast<double>((items[k].c1 - items[k].c0) * items[k].length);
   }
   std::vector<std::vector<float>> result = BlendWindows(cuts, values, frames, J);
   if (stats) {

@@ -39,6 +39,11 @@ class DvaeModel {
   int window() const;
   int joints() const;
   int64_t num_parameters() const;
+  // Threads sharing the windows of one Denoise call (>= 1; default 1), with the same result for
+  // any number: windows go in fixed chunks, each with its own seed. A setting of this copy of the
+  // model only. Pin LibTorch's own pool to one thread (PinThreads(1)) when using several.
+  void set_threads(int threads);
+  int threads() const { return threads_; }
 
   // Denoised copies of the sequences (each >= 2 frames). Deterministic for options.seed.
   // Throws std::invalid_argument for a sequence whose size is not a multiple of joints x 3 or
@@ -52,6 +57,7 @@ class DvaeModel {
  private:
   struct Impl;
   std::shared_ptr<Impl> impl_;
+  int threads_ = 1;
 };
 
 // A motion on the model's skeleton (same joint names, in order) and frame rate, denoised. Throws

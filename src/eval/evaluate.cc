@@ -3,11 +3,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <mutex>
 #include <stdexcept>
 #include <string>
-#include <thread>
+
+#include "core/parallel_for.h"
 
 namespace motionfork {
 namespace {
@@ -79,12 +79,7 @@ double MeanScore(const FrameScorer& scorer, const float* positions, int n,
 
 }  // namespace
 
-uint64_t WindowSeed(uint64_t seed, int window) {
-  uint64_t z = seed + 0x9E3779B97F4A7C15ull * (static_cast<uint64_t>(window) + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+uint64_t WindowSeed(uint64_t seed, int window) { return ItemSeed(seed, window); }
 
 EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& options) {
   const int N = ts.num_windows();
@@ -153,128 +148,116 @@ EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& 
     std::vector<double> pred_scores, truth_scores;
   };
   std::vector<Outcome> outcomes(N);
-  std::atomic<int> next{0}, done{0};
+  std::atomic<int> done{0};
   std::mutex progress_lock;
-  std::vector<std::exception_ptr> failures(N);
-  std::vector<double> seconds(3 * std::max(1, options.threads), 0.0);
+  struct Scratch {
+    std::vector<float> history, futures, samples, relative, truth_positions;
+    std::vector<const float*> truths;
+    std::vector<Displacement> displacements;
+    std::vector<double> scratch;
+    DisplacementWorkspace workspace;
+    double time[3] = {0, 0, 0};  // predicting, metrics, scoring
+  };
+  const int threads = std::max(1, std::min(options.threads, N));
+  std::vector<Scratch> scratches(threads);
+  for (Scratch& s : scratches) {
+    s.samples.resize(static_cast<size_t>(K) * T * D);       // [K, T, D]
+    s.relative.resize(static_cast<size_t>(K) * T * J * 3);  // [K * T, J, 3] root at 0
+    s.truth_positions.resize(static_cast<size_t>(T) * J * 3);
+  }
   auto report = [&] {
     const int d = ++done;
     if (!options.progress) return;
     std::lock_guard<std::mutex> lock(progress_lock);
     options.progress(d, N);
   };
-  auto work = [&](int thread) {
-    std::vector<float> history, futures;
-    std::vector<float> samples(static_cast<size_t>(K) * T * D);       // [K, T, D]
-    std::vector<float> relative(static_cast<size_t>(K) * T * J * 3);  // [K * T, J, 3] root at 0
-    std::vector<float> truth_positions(static_cast<size_t>(T) * J * 3);
-    std::vector<const float*> truths;
-    std::vector<Displacement> displacements;
-    std::vector<double> scratch;
-    DisplacementWorkspace workspace;
-    double* time = seconds.data() + 3 * thread;  // predicting, metrics, scoring
-    for (int i = next++; i < N; i = next++) {
-      Outcome& o = outcomes[i];
-      try {
-        const int set_size = ts.multimodal.set_size(i);
-        if (!options.keep_singleton_sets && set_size == 1) {
-          o.skipped = true;
-          report();
-          continue;
-        }
-        auto start = Clock::now();
-        history.assign(ts.history(i), ts.history(i) + static_cast<size_t>(ts.t_his) * J * 3);
-        PredictRequest request;
-        request.num_samples = K;
-        request.seed = WindowSeed(options.seed, i);
-        request.fixed_part = options.fixed_part;
-        predictor.Predict(history, request, &futures);
-        time[0] += Since(start);
-
-        start = Clock::now();
-        for (size_t f = 0; f < static_cast<size_t>(K) * T; ++f) {
-          const float* p = futures.data() + f * J * 3;
-          float* r = relative.data() + f * J * 3;
-          float* s = samples.data() + f * D;
-          for (int e = 0; e < J * 3; ++e) {
-            if (!std::isfinite(p[e])) {
-              throw std::invalid_argument(
-                  predictor.name() + " returned a non-finite position in window " +
-                  std::to_string(i) + " (clip '" + ts.clip_names[ts.windows[i].clip] +
-                  "', start frame " + std::to_string(ts.windows[i].start) + ")");
-            }
-            r[e] = p[e] - p[e % 3];
-          }
-          std::copy(r + 3, r + J * 3, s);
-        }
-        WindowMetrics& m = o.m;
-        m.apd = Apd(samples.data(), K, T, D);
-        truths.clear();
-        int self = -1;
-        for (int k = 0; k < set_size; ++k) {
-          const int member = ts.multimodal.set(i)[k];
-          if (member == i) self = k;
-          truths.push_back(ts.future(member));
-        }
-        if (self < 0) {
-          throw std::invalid_argument(
-              "Evaluate: window " + std::to_string(i) +
-              " is missing from its own multimodal set (sets built for other windows?)");
-        }
-        workspace.Run(samples.data(), K, T, D, truths, &displacements);
-        m.ade = displacements[self].ade;
-        m.fde = displacements[self].fde;
-        for (const Displacement& d : displacements) {
-          m.mmade += d.ade;
-          m.mmfde += d.fde;
-        }
-        m.mmade /= set_size;
-        m.mmfde /= set_size;
-        if (options.fixed_part >= 0) {
-          if (!varied_dims.empty()) o.varied = ApdOfDims(samples.data(), K, T, D, varied_dims);
-          if (!fixed_dims.empty()) o.fixed = ApdOfDims(samples.data(), K, T, D, fixed_dims);
-        }
-        time[1] += Since(start);
-
-        o.pred_scores.assign(scorers, 0.0);
-        o.truth_scores.assign(scorers, 0.0);
-        if (scorers > 0) {
-          start = Clock::now();
-          const float* gt = ts.future(i);
-          for (int t = 0; t < T; ++t) {
-            float* q = truth_positions.data() + static_cast<size_t>(t) * J * 3;
-            q[0] = q[1] = q[2] = 0;
-            std::copy(gt + static_cast<size_t>(t) * D, gt + static_cast<size_t>(t + 1) * D, q + 3);
-          }
-          for (size_t s = 0; s < scorers; ++s) {
-            o.pred_scores[s] = MeanScore(options.scorers[s], relative.data(), K * T, &scratch, i);
-            o.truth_scores[s] =
-                MeanScore(options.scorers[s], truth_positions.data(), T, &scratch, i);
-          }
-          time[2] += Since(start);
-        }
-      } catch (...) {
-        failures[i] = std::current_exception();
-        next = N;  // the others stop after their current window
-      }
+  auto measure = [&](int i, int worker) {
+    Scratch& w = scratches[worker];
+    Outcome& o = outcomes[i];
+    const int set_size = ts.multimodal.set_size(i);
+    if (!options.keep_singleton_sets && set_size == 1) {
+      o.skipped = true;
       report();
+      return;
     }
+    auto start = Clock::now();
+    w.history.assign(ts.history(i), ts.history(i) + static_cast<size_t>(ts.t_his) * J * 3);
+    PredictRequest request;
+    request.num_samples = K;
+    request.seed = WindowSeed(options.seed, i);
+    request.fixed_part = options.fixed_part;
+    predictor.Predict(w.history, request, &w.futures);
+    w.time[0] += Since(start);
+
+    start = Clock::now();
+    for (size_t f = 0; f < static_cast<size_t>(K) * T; ++f) {
+      const float* p = w.futures.data() + f * J * 3;
+      float* r = w.relative.data() + f * J * 3;
+      float* s = w.samples.data() + f * D;
+      for (int e = 0; e < J * 3; ++e) {
+        if (!std::isfinite(p[e])) {
+          throw std::invalid_argument(
+              predictor.name() + " returned a non-finite position in window " + std::to_string(i) +
+              " (clip '" + ts.clip_names[ts.windows[i].clip] + "', start frame " +
+              std::to_string(ts.windows[i].start) + ")");
+        }
+        r[e] = p[e] - p[e % 3];
+      }
+      std::copy(r + 3, r + J * 3, s);
+    }
+    WindowMetrics& m = o.m;
+    m.apd = Apd(w.samples.data(), K, T, D);
+    w.truths.clear();
+    int self = -1;
+    for (int k = 0; k < set_size; ++k) {
+      const int member = ts.multimodal.set(i)[k];
+      if (member == i) self = k;
+      w.truths.push_back(ts.future(member));
+    }
+    if (self < 0) {
+      throw std::invalid_argument(
+          "Evaluate: window " + std::to_string(i) +
+          " is missing from its own multimodal set (sets built for other windows?)");
+    }
+    w.workspace.Run(w.samples.data(), K, T, D, w.truths, &w.displacements);
+    m.ade = w.displacements[self].ade;
+    m.fde = w.displacements[self].fde;
+    for (const Displacement& d : w.displacements) {
+      m.mmade += d.ade;
+      m.mmfde += d.fde;
+    }
+    m.mmade /= set_size;
+    m.mmfde /= set_size;
+    if (options.fixed_part >= 0) {
+      if (!varied_dims.empty()) o.varied = ApdOfDims(w.samples.data(), K, T, D, varied_dims);
+      if (!fixed_dims.empty()) o.fixed = ApdOfDims(w.samples.data(), K, T, D, fixed_dims);
+    }
+    w.time[1] += Since(start);
+
+    o.pred_scores.assign(scorers, 0.0);
+    o.truth_scores.assign(scorers, 0.0);
+    if (scorers > 0) {
+      start = Clock::now();
+      const float* gt = ts.future(i);
+      for (int t = 0; t < T; ++t) {
+        float* q = w.truth_positions.data() + static_cast<size_t>(t) * J * 3;
+        q[0] = q[1] = q[2] = 0;
+        std::copy(gt + static_cast<size_t>(t) * D, gt + static_cast<size_t>(t + 1) * D, q + 3);
+      }
+      for (size_t s = 0; s < scorers; ++s) {
+        o.pred_scores[s] = MeanScore(options.scorers[s], w.relative.data(), K * T, &w.scratch, i);
+        o.truth_scores[s] =
+            MeanScore(options.scorers[s], w.truth_positions.data(), T, &w.scratch, i);
+      }
+      w.time[2] += Since(start);
+    }
+    report();
   };
-  const int threads = std::max(1, std::min(options.threads, N));
-  if (threads == 1) {
-    work(0);
-  } else {
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t) pool.emplace_back(work, t);
-    for (std::thread& t : pool) t.join();
-  }
-  for (int i = 0; i < N; ++i) {  // the first failing window's error, whatever the threads
-    if (failures[i]) std::rethrow_exception(failures[i]);
-  }
-  for (int t = 0; t < threads; ++t) {
-    result.seconds_predicting += seconds[3 * t];
-    result.seconds_metrics += seconds[3 * t + 1];
-    result.seconds_scoring += seconds[3 * t + 2];
+  ParallelFor(N, threads, measure);
+  for (const Scratch& w : scratches) {
+    result.seconds_predicting += w.time[0];
+    result.seconds_metrics += w.time[1];
+    result.seconds_scoring += w.time[2];
   }
   Sums all(scorers);
   std::vector<Sums> per_action(ts.actions.size(), Sums(scorers));

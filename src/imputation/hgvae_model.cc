@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/parallel_for.h"
 #include "imputation/hgvae_net.h"
 #include "imputation/hgvae_tensors.h"
 #include "torch_util/parameters.h"
@@ -12,7 +13,31 @@
 namespace motionfork {
 
 namespace {
-constexpr int64_t kChunk = 256;  // windows per pass
+constexpr int64_t kChunk = 64;  // windows per pass; fixed, so results do not depend on threads
+constexpr int64_t kSampleChunk = 256;  // windows drawn per pass (one generator for all)
+
+// Runs fn(first window, windows) for every chunk of `count` windows on up to `threads` threads and
+// returns the chunks' results in order.
+template <typename Fn>
+auto ForChunks(int64_t count, int threads, Fn fn) {
+  const int chunks = static_cast<int>((count + kChunk - 1) / kChunk);
+  std::vector<decltype(fn(int64_t{0}, int64_t{0}))> out(static_cast<size_t>(chunks));
+  ParallelFor(chunks, threads, [&](int c, int) {
+    const int64_t s = c * kChunk;
+    out[static_cast<size_t>(c)] = fn(s, std::min(kChunk, count - s));
+  });
+  return out;
+}
+
+template <typename T>
+void Append(std::vector<T>* dst, const std::vector<T>& src) {
+  dst->insert(dst->end(), src.begin(), src.end());
+}
+
+void AppendTensor(std::vector<double>* dst, const torch::Tensor& t) {
+  const torch::Tensor d = t.to(torch::kFloat64).contiguous();
+  dst->insert(dst->end(), d.data_ptr<double>(), d.data_ptr<double>() + d.numel());
+}
 }  // namespace
 
 struct HgvaeModel::Impl {
@@ -75,6 +100,12 @@ int HgvaeModel::window() const { return static_cast<int>(impl_->T()); }
 int HgvaeModel::coords() const { return static_cast<int>(impl_->N()); }
 int64_t HgvaeModel::num_parameters() const { return CountParameters(*impl_->net); }
 
+void HgvaeModel::set_threads(int threads) {
+  if (threads < 1)
+    throw std::invalid_argument("HgvaeModel: expected >= 1 thread, got " + std::to_string(threads));
+  threads_ = threads;
+}
+
 int HgvaeModel::ClassIndex(const std::string& name) const {
   if (name.empty()) return -1;
   const auto& c = impl_->manifest.classes;
@@ -99,15 +130,15 @@ std::vector<double> HgvaeModel::Score(const std::vector<float>& windows, ImputeO
                                       int class_index) const {
   const Impl& im = *impl_;
   const int64_t count = im.CheckWindows(windows, "Score");
-  torch::NoGradGuard no_grad;
-  std::vector<double> out;
-  for (int64_t s = 0; s < count; s += kChunk) {
-    const int64_t n = std::min(kChunk, count - s);
+  const auto chunks = ForChunks(count, threads_, [&](int64_t s, int64_t n) {
+    torch::NoGradGuard no_grad;
     const torch::Tensor x = im.tensors->ToNodeMajor(windows.data() + s * im.T() * im.N(), n);
-    const torch::Tensor sc = im.Objective(x, im.Labels(class_index, n), score).first;
-    const torch::Tensor d = sc.to(torch::kFloat64).contiguous();
-    out.insert(out.end(), d.data_ptr<double>(), d.data_ptr<double>() + n);
-  }
+    std::vector<double> out;
+    AppendTensor(&out, im.Objective(x, im.Labels(class_index, n), score).first);
+    return out;
+  });
+  std::vector<double> out;
+  for (const auto& c : chunks) Append(&out, c);
   return out;
 }
 
@@ -141,10 +172,7 @@ ImputeResult HgvaeModel::Impute(const std::vector<float>& windows,
                                   " has every value missing: nothing to impute from");
     }
   }
-  ImputeResult r;
-  r.windows.reserve(windows.size());
-  for (int64_t s = 0; s < count; s += kChunk) {
-    const int64_t n = std::min(kChunk, count - s);
+  const auto chunks = ForChunks(count, threads_, [&](int64_t s, int64_t n) {
     const torch::Tensor mask = im.tensors->MaskToNodeMajor(missing.data() + s * per, n);
     const torch::Tensor raw = im.tensors->ToNodeMajor(windows.data() + s * per, n);
     const torch::Tensor x0 =
@@ -172,17 +200,26 @@ ImputeResult HgvaeModel::Impute(const std::vector<float>& windows,
       (-obj.sum()).backward();
       adam.step();
     }
+    ImputeResult r;
     const std::vector<float> filled = im.tensors->FromNodeMajor(best_x);
     // Observed values are returned exactly as given (no round trip through the normalisation).
     for (size_t i = 0; i < filled.size(); ++i) {
       const size_t g = static_cast<size_t>(s) * per + i;
       r.windows.push_back(missing[g] ? filled[i] : windows[g]);
     }
-    for (int64_t i = 0; i < n; ++i) {
-      r.score_before.push_back(before[i].item<double>());
-      r.score_after.push_back(best_score[i].item<double>());
+    AppendTensor(&r.score_before, before);
+    AppendTensor(&r.score_after, best_score);
+    for (int64_t i = 0; i < n; ++i)
       r.best_step.push_back(static_cast<int>(best_step[i].item<int64_t>()));
-    }
+    return r;
+  });
+  ImputeResult r;
+  r.windows.reserve(windows.size());
+  for (const ImputeResult& c : chunks) {
+    Append(&r.windows, c.windows);
+    Append(&r.score_before, c.score_before);
+    Append(&r.score_after, c.score_after);
+    Append(&r.best_step, c.best_step);
   }
   return r;
 }
@@ -190,27 +227,36 @@ ImputeResult HgvaeModel::Impute(const std::vector<float>& windows,
 HgvaeWindowFigures HgvaeModel::Evaluate(const std::vector<float>& windows, uint64_t seed) const {
   const Impl& im = *impl_;
   const int64_t count = im.CheckWindows(windows, "Evaluate");
-  torch::NoGradGuard no_grad;
-  at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(seed);
-  HgvaeWindowFigures f;
-  f.kl_levels.resize(im.net->num_levels());
-  auto append = [](std::vector<double>& dst, const torch::Tensor& t) {
-    const torch::Tensor d = t.to(torch::kFloat64).contiguous();
-    dst.insert(dst.end(), d.data_ptr<double>(), d.data_ptr<double>() + d.numel());
-  };
-  for (int64_t s = 0; s < count; s += kChunk) {
-    const int64_t n = std::min(kChunk, count - s);
+  const int64_t levels = im.net->num_levels();
+  const auto chunks = ForChunks(count, threads_, [&](int64_t s, int64_t n) {
+    torch::NoGradGuard no_grad;
+    at::Generator gen =
+        at::make_generator<at::CPUGeneratorImpl>(ItemSeed(seed, static_cast<int>(s / kChunk)));
+    HgvaeWindowFigures f;
+    f.kl_levels.resize(levels);
     const torch::Tensor x = im.tensors->ToNodeMajor(windows.data() + s * im.T() * im.N(), n);
     const HgvaeOutput o = im.net->forward(x, {}, LatentMode::kSample, gen);
-    append(f.elbo, HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl - im.log_det);
-    append(f.recon_mse_sampled,
-           im.tensors->SquaredErrorMetres(x, o.x_mean).mean(std::vector<int64_t>{0, 2}));
-    for (int64_t l = 0; l < im.net->num_levels(); ++l) append(f.kl_levels[l], o.kl_levels[l]);
+    AppendTensor(&f.elbo,
+                 HgvaeNetImpl::GaussianLogLik(x, o.x_mean, o.x_logvar) - o.kl - im.log_det);
+    AppendTensor(&f.recon_mse_sampled,
+                 im.tensors->SquaredErrorMetres(x, o.x_mean).mean(std::vector<int64_t>{0, 2}));
+    for (int64_t l = 0; l < levels; ++l) AppendTensor(&f.kl_levels[l], o.kl_levels[l]);
     const HgvaeOutput om = im.net->forward(x, {}, LatentMode::kPosteriorMean);
-    append(f.score, im.net->Score(x, om, ImputeObjective::kPosterior));
-    append(f.joint_score, im.net->Score(x, om, ImputeObjective::kJoint));
-    append(f.recon_mse,
-           im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
+    AppendTensor(&f.score, im.net->Score(x, om, ImputeObjective::kPosterior));
+    AppendTensor(&f.joint_score, im.net->Score(x, om, ImputeObjective::kJoint));
+    AppendTensor(&f.recon_mse,
+                 im.tensors->SquaredErrorMetres(x, om.x_mean).mean(std::vector<int64_t>{0, 2}));
+    return f;
+  });
+  HgvaeWindowFigures f;
+  f.kl_levels.resize(levels);
+  for (const HgvaeWindowFigures& c : chunks) {
+    Append(&f.elbo, c.elbo);
+    Append(&f.recon_mse_sampled, c.recon_mse_sampled);
+    for (int64_t l = 0; l < levels; ++l) Append(&f.kl_levels[l], c.kl_levels[l]);
+    Append(&f.score, c.score);
+    Append(&f.joint_score, c.joint_score);
+    Append(&f.recon_mse, c.recon_mse);
   }
   return f;
 }
@@ -223,8 +269,8 @@ std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed,
   torch::NoGradGuard no_grad;
   at::Generator gen = at::make_generator<at::CPUGeneratorImpl>(seed);
   std::vector<float> out;
-  for (int64_t s = 0; s < count; s += kChunk) {
-    const int64_t n = std::min<int64_t>(kChunk, count - s);
+  for (int64_t s = 0; s < count; s += kSampleChunk) {
+    const int64_t n = std::min<int64_t>(kSampleChunk, count - s);
     const std::vector<float> w = im.tensors->FromNodeMajor(
         im.net->Generate(n, im.Labels(class_index, n), sample_latents, gen));
     out.insert(out.end(), w.begin(), w.end());

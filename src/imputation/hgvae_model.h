@@ -4,7 +4,8 @@
 // Windows are [count, T, N] floats: T = window() frames of N = coords() root-relative coordinates
 // without the root (metres; joint j's x, y, z at 3 (j - 1) .. 3 (j - 1) + 2), the layout of
 // PoseVectorsWithoutRoot. Missing-value masks have the same layout (1 = missing). Work is done in
-// chunks, so any count is fine. Inference only: no call trains the model.
+// chunks of 64 windows, so any count is fine, shared by up to threads() threads with the same
+// results for any number (each chunk has its own seed). Inference only: no call trains the model.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +48,10 @@ class HgvaeModel {
   int window() const;  // frames
   int coords() const;  // N
   int64_t num_parameters() const;
+  // Threads sharing the chunks of one call (>= 1; default 1). A setting of this copy of the model
+  // only. Pin LibTorch's own pool to one thread (PinThreads(1)) when using several.
+  void set_threads(int threads);
+  int threads() const { return threads_; }
   // Class index of a name, -1 for "" ; throws std::invalid_argument listing the classes.
   int ClassIndex(const std::string& name) const;
 
@@ -68,7 +73,8 @@ class HgvaeModel {
   std::vector<float> MeanImpute(const std::vector<float>& windows,
                                 const std::vector<uint8_t>& missing) const;
 
-  // ELBO (one posterior sample from `seed`), score, reconstruction error, KL per level.
+  // ELBO (one posterior sample per window, chunk c's from ItemSeed(seed, c)), score, reconstruction
+  // error, KL per level.
   HgvaeWindowFigures Evaluate(const std::vector<float>& windows, uint64_t seed = 0) const;
 
   // count windows [count, T, N] from the prior (class_index -1 = no class); sample_latents false
@@ -79,6 +85,7 @@ class HgvaeModel {
  private:
   struct Impl;
   std::shared_ptr<Impl> impl_;
+  int threads_ = 1;
 };
 
 }  // namespace motionfork

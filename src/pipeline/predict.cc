@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 
@@ -9,6 +10,7 @@
 #include "bundle/generator_bundle.h"
 #include "bundle/hgvae_bundle.h"
 #include "core/error.h"
+#include "core/parallel_for.h"
 #include "denoise/dvae_model.h"
 #include "imputation/hgvae_model.h"
 #include "pipeline/history_repair.h"
@@ -40,6 +42,15 @@ int MissingInHistory(const MotionWithGaps& m, int start, int t_his) {
   const size_t fv = static_cast<size_t>(m.motion.num_joints()) * 3;
   return static_cast<int>(std::count(m.missing.begin() + start * fv,
                                      m.missing.begin() + (start + t_his) * fv, uint8_t{1}));
+}
+
+// Throws FormatError when the history frames have missing values and there is no imputer.
+void RequireImputer(const std::string& name, int start, int t_his, int missing, bool imputer) {
+  if (missing == 0 || imputer) return;
+  throw FormatError(name + ": the history (frames " + std::to_string(start) + ".." +
+                    std::to_string(start + t_his - 1) + ") has " + std::to_string(missing) +
+                    " missing values; pass --impute DIR (an HG-VAE bundle, e.g. "
+                    "models/bandai/hgvae) to fill them");
 }
 
 }  // namespace
@@ -93,12 +104,7 @@ Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
   Motion history = in.motion.motion;
   std::optional<HistoryImputation> imputation;
   if (const int missing = MissingInHistory(in.motion, start, t_his); missing > 0) {
-    if (!repair.imputer) {
-      throw FormatError(in.name + ": the history (frames " + std::to_string(start) + ".." +
-                        std::to_string(start + t_his - 1) + ") has " + std::to_string(missing) +
-                        " missing values; pass --impute DIR (an HG-VAE bundle, e.g. "
-                        "models/bandai/hgvae) to fill them");
-    }
+    RequireImputer(in.name, start, t_his, missing, repair.imputer != nullptr);
     CheckImputerFits(*repair.imputer, repair.imputer_dir, model);
     imputation = ImputeHistory(*repair.imputer, repair.imputer_dir, in.name, start, t_his,
                                in.motion.missing, &history);
@@ -119,23 +125,42 @@ Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
 }
 
 Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
+  Prediction out;
+  PredictManyFromFiles(files, {files.history}, 1,
+                       [&](int, const Prediction& p, const PredictNotes& n) {
+                         out = p;
+                         if (notes) *notes = n;
+                       });
+  return out;
+}
+
+void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::string>& histories,
+                          int threads, const PredictionDone& done) {
   ValidateForecastRequest(files.request);  // before any bundle is read
   const Forecaster model = LoadForecaster(files.model_dir);
   const ModelConfig& mc = model.config();
+  const int t_his = mc.generator.t_his;
   if (files.imputer_dir.empty() && !files.masks.empty())
     throw FormatError("--mask needs --impute (an HG-VAE bundle to fill the values)");
-  HistoryInput in;
-  in.motion = LoadMotionWithGaps(files.history, files.input, model.skeleton(), mc.fps, files.masks,
-                                 files.request.seed);
-  in.name = files.history;
-  in.start = files.start;
-  if (notes) notes->resampled_from = in.motion.resampled_from;
-  // The HG-VAE is loaded only when the history frames have missing values.
-  const int start = HistoryStart(in, mc.generator.t_his, mc.fps);
+  std::vector<HistoryInput> inputs;
+  bool missing_values = false;
+  for (const std::string& path : histories) {
+    HistoryInput in;
+    in.motion = LoadMotionWithGaps(path, files.input, model.skeleton(), mc.fps, files.masks,
+                                   files.request.seed);
+    in.name = path;
+    in.start = files.start;
+    const int start = HistoryStart(in, t_his, mc.fps);
+    const int missing = MissingInHistory(in.motion, start, t_his);
+    RequireImputer(path, start, t_his, missing, !files.imputer_dir.empty());
+    missing_values = missing_values || missing > 0;
+    inputs.push_back(std::move(in));
+  }
+  // The HG-VAE is loaded only when history frames have missing values.
   std::optional<HgvaeModel> imputer;
   std::optional<DvaeModel> denoiser;
   HistoryRepair repair;
-  if (!files.imputer_dir.empty() && MissingInHistory(in.motion, start, mc.generator.t_his) > 0) {
+  if (missing_values) {
     imputer.emplace(LoadHgvaeModel(files.imputer_dir));
     repair.imputer = &*imputer;
     repair.imputer_dir = files.imputer_dir;
@@ -147,11 +172,19 @@ Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
   }
   const PoseValidator validator =
       PoseValidator::FromBundle(files.model_dir, model.skeleton(), mc.fps);
-  if (notes) {
-    notes->angle_ranges = validator.has_constraints();
-    notes->prior = validator.has_prior();
-  }
-  return PredictFutures(model, files.model_dir, validator, std::move(in), files.request, repair);
+  PredictNotes notes;
+  notes.angle_ranges = validator.has_constraints();
+  notes.prior = validator.has_prior();
+  std::mutex lock;
+  ParallelFor(static_cast<int>(inputs.size()), threads, [&](int i, int) {
+    HistoryInput& in = inputs[static_cast<size_t>(i)];
+    PredictNotes n = notes;
+    n.resampled_from = in.motion.resampled_from;
+    const Prediction p =
+        PredictFutures(model, files.model_dir, validator, std::move(in), files.request, repair);
+    std::lock_guard<std::mutex> guard(lock);
+    done(i, p, n);
+  });
 }
 
 ValiditySummary Summarise(const Prediction& p) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -72,6 +73,18 @@ struct PredictNotes {
 
 // Loads the bundles, reads the history and runs PredictFutures.
 Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes = nullptr);
+
+// Called once per history of PredictManyFromFiles, one call at a time, in any order.
+using PredictionDone =
+    std::function<void(int history, const Prediction& prediction, const PredictNotes& notes)>;
+
+// Many histories (files.history is not read) with one loading of the bundles: history i's
+// prediction is the one PredictFromFiles gives for it alone (the same request and seed), made by
+// up to `threads` threads (pin LibTorch to one thread each: PinThreads(1)). Every history is read
+// and checked (length, missing values) before any is predicted, so that a bad file stops the run
+// before `done` is called; an error names the file.
+void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::string>& histories,
+                          int threads, const PredictionDone& done);
 
 // Per-sample summary of a prediction's validity: futures valid in every frame and the mean of
 // their prior NLLs (0 when there is no prior).

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "launch/worker_place.h"
+
 // OpenBLAS's C entry point (libopenblas); declared here to avoid depending on its header layout.
 extern "C" void openblas_set_num_threads(int num_threads) __attribute__((weak));
 
@@ -26,6 +28,11 @@ void PinThreads(int threads) {
     interop_set = true;
   }
   if (openblas_set_num_threads) openblas_set_num_threads(threads);
+}
+
+int WindowThreads(int requested) {
+  PinThreads(1);
+  return requested > 0 ? requested : CoresAvailable();
 }
 
 int DefaultThreads() {

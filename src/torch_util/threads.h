@@ -8,6 +8,11 @@ namespace motionfork {
 // Inter-op threads can only be set once per process; later calls leave it as it is.
 void PinThreads(int threads);
 
+// Threads for a job that shares its windows across threads (--threads: `requested`, or every core
+// when 0), with LibTorch and OpenBLAS pinned to one thread each so that the results do not depend
+// on the count (core/parallel_for.h).
+int WindowThreads(int requested);
+
 // Threads to use by default: $MOTIONFORK_THREADS if set, else 1.
 int DefaultThreads();
 

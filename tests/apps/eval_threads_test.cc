@@ -1,6 +1,8 @@
-// `motionfork eval --threads N`: the test windows measured on several threads give the same figures
-// as one thread (each window has its own seed; the sums are taken in window order), for the
-// shipped model (LibTorch, fused kernels, angle repair, prior and angle scorers) and a baseline.
+// --threads N on the evaluations: windows shared by several threads give the same figures as one
+// thread (each window or chunk has its own seed; the sums are taken in order). `eval` for the
+// shipped model (LibTorch, fused kernels, angle repair, prior and angle scorers) and a baseline;
+// `hgvae eval` and `dvae eval` (imputation, test-time optimisation, forecasting from repaired
+// histories) for the shipped history-repair models.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -19,8 +21,34 @@ nlohmann::json Figures(const std::string& path) {
   std::ifstream in(path);
   REQUIRE(in);
   nlohmann::json j = nlohmann::json::parse(in);
-  j.erase("seconds");
+  for (const char* timing : {"seconds", "regression_frames_per_s", "optimisation_frames_per_s"})
+    j.erase(timing);
   return j;
+}
+
+// Every training clip (the protocol reads the split) and every twelfth test clip of the Bandai
+// split, as DIR/split.tsv.
+std::string SmallSplit(const std::string& data, const motionfork::testing::TempDir& dir) {
+  std::ifstream in(data + "/split.tsv");
+  std::ofstream out(dir.file("split.tsv"));
+  int test = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("test\t", 0) == 0 && test++ % 12 != 11) continue;
+    out << line << "\n";
+  }
+  return dir.file("split.tsv");
+}
+
+// Runs `command --threads 1|2 --json DIR/N.json` and checks that both report the same figures.
+void CheckSameFigures(const std::string& command, const motionfork::testing::TempDir& dir) {
+  for (int threads : {1, 2}) {
+    const Run r = Motionfork(command + " --threads " + std::to_string(threads) + " --json " +
+                             dir.file(std::to_string(threads) + ".json"));
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+  }
+  const nlohmann::json one = Figures(dir.file("1.json")), two = Figures(dir.file("2.json"));
+  CHECK(one.dump() == two.dump());
 }
 
 }  // namespace
@@ -32,28 +60,37 @@ TEST_CASE("eval with 1 and 2 threads writes identical figures") {
     return;
   }
   motionfork::testing::TempDir dir;
-  // Every training clip (the protocol reads the split) and every twelfth test clip.
-  std::ifstream in(data + "/split.tsv");
-  std::ofstream out(dir.file("split.tsv"));
-  int test = 0;
-  for (std::string line; std::getline(in, line);) {
-    if (line.rfind("test\t", 0) == 0 && test++ % 12 != 11) continue;
-    out << line << "\n";
-  }
-  out.close();
-  const std::string common = "-q eval --protocol bandai --data " + data + " --split-file " +
-                             dir.file("split.tsv") + " -k 20 ";
+  const std::string common =
+      "-q eval --protocol bandai --data " + data + " --split " + SmallSplit(data, dir) + " -k 20 ";
   for (const std::string& predictor :
        {std::string("--model ") + MOTIONFORK_SOURCE_DIR + "/models/bandai",
         std::string("--baseline nn")}) {
-    for (int threads : {1, 2}) {
-      const Run r = Motionfork(common + predictor + " --threads " + std::to_string(threads) +
-                               " --json " + dir.file(std::to_string(threads) + ".json"));
-      INFO(r.output);
-      REQUIRE(r.status == 0);
-    }
-    const nlohmann::json one = Figures(dir.file("1.json")), two = Figures(dir.file("2.json"));
+    CheckSameFigures(common + predictor, dir);
+    const nlohmann::json one = Figures(dir.file("1.json"));
     CHECK(one["windows"].get<int>() > 50);
-    CHECK(one.dump() == two.dump());
+  }
+}
+
+TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures") {
+  const std::string data = motionfork::testing::SharedDataDir("data/bandai");
+  if (data.empty()) {
+    WARN("SKIPPED: ../shared/data/bandai not found");
+    return;
+  }
+  motionfork::testing::TempDir dir;
+  const std::string models = std::string(MOTIONFORK_SOURCE_DIR) + "/models/bandai";
+  const std::string common = " --data " + data + " --split " + SmallSplit(data, dir) +
+                             " --forecaster " + models + " -k 5 --forecast-windows 12";
+  SECTION("hgvae eval: likelihood, imputation (several chunks), OoD, forecasting") {
+    CheckSameFigures("-q hgvae eval --model " + models + "/hgvae --windows 100" + common, dir);
+    CHECK(Figures(dir.file("1.json"))["windows"].get<int>() == 100);
+  }
+  SECTION("dvae eval: regression and optimisation modes, forecasting") {
+    CheckSameFigures("-q dvae eval --model " + models +
+                         "/dvae --test-clips 4 --optimisation-clips 2 --noise gaussian:0.05 "
+                         "--noise outliers:0.1,0.3" +
+                         common,
+                     dir);
+    CHECK(Figures(dir.file("1.json"))["optimisation_clips"].get<int>() == 2);
   }
 }

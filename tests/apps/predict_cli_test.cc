@@ -154,6 +154,47 @@ TEST_CASE("predict refuses bad input with the file named and writes nothing") {
   CHECK_FALSE(fs::exists(f.dir.file("broken.json")));
 }
 
+TEST_CASE("predict with several histories writes each file's futures as predicted alone") {
+  Fixture f;
+  const std::string second = f.dir.file("second.csv");
+  WriteCsvMotion(second, testing::TinyBundleHistory(17));
+  REQUIRE(f.Predict("alone1").status == 0);
+  REQUIRE(
+      Motionfork("predict --model " + f.bundle + " " + second + " -k 6 -o " + f.dir.file("alone2"))
+          .status == 0);
+  for (int threads : {1, 2}) {
+    const std::string out = f.dir.file("many" + std::to_string(threads));
+    const Run r = Motionfork("predict --model " + f.bundle + " " + f.history + " " + second +
+                             " -k 6 --threads " + std::to_string(threads) + " -o " + out);
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    // Reported in the order of the files, whatever the threads.
+    CHECK(r.output.find(out + "/history.npy") < r.output.find(out + "/second.npy"));
+    const Prediction one = ReadPrediction(out + "/history.json");
+    const Prediction two = ReadPrediction(out + "/second.json");
+    CHECK(one.history == f.history);
+    CHECK(one.positions == ReadPrediction(f.dir.file("alone1.json")).positions);
+    CHECK(two.positions == ReadPrediction(f.dir.file("alone2.json")).positions);
+    CHECK(one.positions != two.positions);
+  }
+  // Two files of one name would write one output: refused before anything is written.
+  fs::create_directories(f.dir.file("other"));
+  WriteCsvMotion(f.dir.file("other/history.csv"), testing::TinyBundleHistory(12));
+  const Run clash = Motionfork("predict --model " + f.bundle + " " + f.history + " " +
+                               f.dir.file("other/history.csv") + " -o " + f.dir.file("clash"));
+  CHECK(clash.status == 2);
+  CHECK_THAT(clash.output, Contains("other/history.csv") && Contains("different file names"));
+  CHECK_FALSE(fs::exists(f.dir.file("clash")));
+  // A bad file among good ones: nothing is written, the file is named.
+  const std::string short_history = f.dir.file("short.csv");
+  WriteCsvMotion(short_history, testing::TinyBundleHistory(3));
+  const Run bad = Motionfork("predict --model " + f.bundle + " " + f.history + " " + short_history +
+                             " --threads 2 -o " + f.dir.file("bad"));
+  CHECK(bad.status == 2);
+  CHECK_THAT(bad.output, Contains("short.csv") && Contains("history frames"));
+  CHECK_FALSE(fs::exists(f.dir.file("bad")));
+}
+
 TEST_CASE("export writes each predicted sample as BVH that reads back to the prediction") {
   Fixture f;
   REQUIRE(f.Predict("p").status == 0);

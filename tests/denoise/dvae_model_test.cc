@@ -139,6 +139,31 @@ TEST_CASE(
   CHECK(DenoiseMotion(model, noisy, o).positions() != a.positions());
 }
 
+TEST_CASE("denoising on several threads gives the same output as on one, in both modes") {
+  DvaeModel model = LoadDvaeModel(TinyDir() + "/denoiser");
+  // Sequences of several lengths: several chunks (work items) in regression mode, one per
+  // sequence in optimisation mode.
+  std::vector<std::vector<float>> noisy;
+  for (int frames : {47, 4, 6, 31}) {
+    noisy.push_back(AddNoise(testing::MakeWalkingMotion(frames, 30, 100 + frames),
+                             ParseNoiseSpec("gaussian:0.05"), 4)
+                        .positions());
+  }
+  DenoiseOptions reg = model.manifest().denoise, opt = reg;
+  reg.mode = DenoiseMode::kRegression;
+  opt.mode = DenoiseMode::kOptimisation;
+  DenoiseStats s1, s3;
+  const auto reg_one = model.Denoise(noisy, reg, &s1);
+  const auto opt_one = model.Denoise(noisy, opt);
+  model.set_threads(3);
+  CHECK(model.Denoise(noisy, reg, &s3) == reg_one);
+  CHECK(s3.noise_std == s1.noise_std);
+  CHECK(model.Denoise(noisy, opt) == opt_one);
+  // The threads' copies are the bundle's weights: regression mode is unchanged afterwards.
+  CHECK(model.Denoise(noisy, reg) == reg_one);
+  CHECK(opt_one != reg_one);
+}
+
 TEST_CASE("denoising refuses what it cannot use, naming it") {
   const DvaeModel model = LoadDvaeModel(TinyDir() + "/denoiser");
   const DenoiseOptions o = model.manifest().denoise;

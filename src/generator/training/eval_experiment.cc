@@ -16,7 +16,6 @@
 #include "eval/test_set.h"
 #include "generator/inference/forecaster.h"
 #include "generator/training/generator_predictor.h"
-#include "launch/worker_place.h"
 #include "torch_util/threads.h"
 #include "validity/pose_validator.h"
 
@@ -252,8 +251,7 @@ EvalExperiment RunEvalExperiment(const EvalExperimentOptions& o) {
 
   eval.num_samples = o.k;
   eval.seed = o.seed;
-  eval.threads = o.threads > 0 ? o.threads : CoresAvailable();
-  PinThreads(1);  // threads over windows, each single-threaded: the same sums for any count
+  eval.threads = WindowThreads(o.threads);  // each single-threaded: the same sums for any count
   eval.keep_singleton_sets = protocol.keep_singleton_sets;
   std::unique_ptr<PoseValidator> validator;
   eval.scorers = MakeScorers(o, protocol, ts.skeleton, &validator);

@@ -11,7 +11,9 @@ namespace motionfork {
 
 // K futures per history, the network's raw output (the history is what differs, and the
 // angle-range repair's cost grows with every implausible, e.g. mean-filled, history). dir "" =
-// none (forecast left empty).
-HistoryForecaster LoadHistoryForecaster(const std::string& dir, int k, uint64_t seed);
+// none (forecast left empty). History i of a call is forecast with ItemSeed(seed, i), histories
+// shared by `threads` threads (pin LibTorch to one thread each with PinThreads(1)).
+HistoryForecaster LoadHistoryForecaster(const std::string& dir, int k, uint64_t seed,
+                                        int threads = 1);
 
 }  // namespace motionfork
