@@ -1,0 +1,129 @@
+// The classical fills a learned imputer is measured against (no LibTorch).
+#include "imputation/interpolation_fill.h"
+
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "test_support.h"
+
+using namespace motionfork;
+using Catch::Contains;
+
+namespace {
+
+// Missing: joint j's three coordinates in frames [first, last].
+void Hide(std::vector<uint8_t>* mask, int joints, int j, int first, int last) {
+  for (int t = first; t <= last; ++t)
+    for (int a = 0; a < 3; ++a) (*mask)[(static_cast<size_t>(t) * joints + j) * 3 + a] = 1;
+}
+
+// Largest |a - b| over the masked values.
+double WorstMissing(const std::vector<float>& a, const std::vector<float>& b,
+                    const std::vector<uint8_t>& mask) {
+  double worst = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (mask[i]) worst = std::max(worst, std::abs(double(a[i]) - b[i]));
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("interpolation fills straight-line motion exactly, keeps observed values, holds ends") {
+  // Two joints: the root walks in a straight line, the other moves linearly relative to it.
+  const int T = 30, J = 2;
+  std::vector<float> p;
+  for (int t = 0; t < T; ++t)
+    p.insert(p.end(), {0.1f * t, 1.0f, -0.05f * t, 0.1f * t + 0.3f, 1.0f - 0.01f * t, -0.05f * t});
+  std::vector<uint8_t> mask(p.size(), 0);
+  Hide(&mask, J, 1, 5, 17);
+  Hide(&mask, J, 0, 9, 11);
+  std::vector<float> damaged = p;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (mask[i]) damaged[i] = NAN;
+  for (Interpolation kind : {Interpolation::kLinear, Interpolation::kCubicSpline}) {
+    const std::vector<float> out = InterpolateMissing(damaged, mask, J, kind);
+    CHECK(WorstMissing(out, p, mask) < 1e-5);
+    for (size_t i = 0; i < p.size(); ++i)
+      if (!mask[i]) CHECK(out[i] == damaged[i]);
+  }
+  // Beyond the last observed frame: the nearest value (relative to the root).
+  std::vector<uint8_t> tail(p.size(), 0);
+  Hide(&tail, J, 1, 25, 29);
+  const std::vector<float> held = InterpolateMissing(p, tail, J, Interpolation::kLinear);
+  CHECK(held[(29 * J + 1) * 3 + 1] == Approx(p[(24 * J + 1) * 3 + 1]));
+  CHECK(held[(29 * J + 1) * 3] == Approx(p[29 * J * 3] + 0.3f));  // moves with the root
+}
+
+TEST_CASE("a cubic spline beats straight lines on smooth motion with gaps") {
+  const Motion m = testing::MakeWalkingMotion(90);
+  const int J = m.num_joints();
+  std::vector<uint8_t> mask(m.positions().size(), 0);
+  std::mt19937 rng(5);
+  for (int j = 1; j < J; ++j) Hide(&mask, J, j, 10 + int(rng() % 50), 10 + int(rng() % 50) + 4);
+  const std::vector<float> lin = InterpolateMissing(m.positions(), mask, J, Interpolation::kLinear);
+  const std::vector<float> spl =
+      InterpolateMissing(m.positions(), mask, J, Interpolation::kCubicSpline);
+  double se_lin = 0, se_spl = 0;
+  for (size_t i = 0; i < mask.size(); ++i) {
+    if (!mask[i]) continue;
+    se_lin += std::pow(lin[i] - m.positions()[i], 2);
+    se_spl += std::pow(spl[i] - m.positions()[i], 2);
+  }
+  INFO("squared error: linear " << se_lin << ", spline " << se_spl);
+  CHECK(se_spl < se_lin);
+  CHECK(se_lin > 0);
+}
+
+TEST_CASE("a joint missing in every frame needs a fallback pose, named otherwise") {
+  const Motion m = testing::MakeWalkingMotion(12);
+  const int J = m.num_joints();
+  std::vector<uint8_t> mask(m.positions().size(), 0);
+  Hide(&mask, J, 4, 0, 11);
+  CHECK_THROWS_WITH(InterpolateMissing(m.positions(), mask, J, Interpolation::kLinear),
+                    Contains("joint 4") && Contains("every frame"));
+  CHECK_THROWS_WITH(RigidLimbFill(m.skeleton(), m.positions(), mask), Contains("joint 4"));
+  std::vector<float> fallback(static_cast<size_t>(J) * 3, 0.0f);
+  fallback[4 * 3 + 1] = 0.5f;
+  const std::vector<float> out =
+      InterpolateMissing(m.positions(), mask, J, Interpolation::kLinear, fallback);
+  for (int t = 0; t < 12; ++t) {
+    CHECK(out[(t * J + 4) * 3 + 1] == Approx(m.positions()[t * J * 3 + 1] + 0.5f));
+  }
+  CHECK_THROWS_WITH(
+      InterpolateMissing(m.positions(), std::vector<uint8_t>(5), J, Interpolation::kLinear),
+      Contains("mask"));
+}
+
+TEST_CASE("rigid-limb fill keeps bone lengths and turns the bone between observed frames") {
+  const Motion m = testing::MakeWalkingMotion(60);
+  const Skeleton& sk = m.skeleton();
+  const int J = sk.num_joints();
+  std::vector<uint8_t> mask(m.positions().size(), 0);
+  int leaf = J - 1;  // a joint with a parent other than the root
+  REQUIRE(sk.parent(leaf) > 0);
+  Hide(&mask, J, leaf, 20, 40);
+  Hide(&mask, J, sk.parent(leaf), 25, 35);
+  const std::vector<float> out = RigidLimbFill(sk, m.positions(), mask);
+  auto bone = [&](const std::vector<float>& p, int t, int j) {
+    double s = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double d = p[(t * J + j) * 3 + a] - p[(t * J + sk.parent(j)) * 3 + a];
+      s += d * d;
+    }
+    return std::sqrt(s);
+  };
+  // The bone's median length over the frames where both its ends are observed.
+  std::vector<double> observed;
+  for (int t = 0; t < 60; ++t)
+    if (t < 20 || t > 40) observed.push_back(bone(m.positions(), t, leaf));
+  std::nth_element(observed.begin(), observed.begin() + observed.size() / 2, observed.end());
+  for (int t = 20; t <= 40; ++t) {
+    CHECK(bone(out, t, leaf) == Approx(observed[observed.size() / 2]).epsilon(1e-4));
+  }
+  for (size_t i = 0; i < mask.size(); ++i)
+    if (!mask[i]) CHECK(out[i] == m.positions()[i]);
+  // Close to the truth on a walk (bones turn smoothly), and far better than doing nothing.
+  CHECK(WorstMissing(out, m.positions(), mask) < 0.2);
+}
