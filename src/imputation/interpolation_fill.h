@@ -28,9 +28,9 @@ std::vector<float> InterpolateMissing(const std::vector<float>& positions,
                                       const std::vector<uint8_t>& missing, int joints,
                                       Interpolation kind, const std::vector<float>& fallback = {});
 
-// Joints placed from their parent outward: a joint with any coordinate missing in a frame is its
-// parent's position plus the bone (parent -> joint) at that frame, the bone's length its median
-// over the frames where both ends are observed and its direction interpolated between those
+// Joints placed from their parent outward: the missing coordinates of a joint in a frame are those
+// of its parent's position plus the bone (parent -> joint) at that frame, the bone's length its
+// median over the frames where both ends are observed and its direction interpolated between those
 // frames (normalised linear interpolation; the nearest one beyond them). A bone never observed
 // takes the fallback pose's length and direction. The root itself: linear interpolation.
 std::vector<float> RigidLimbFill(const Skeleton& skeleton, const std::vector<float>& positions,
