@@ -1,7 +1,4 @@
 // motionfork predict: K futures of a history with a trained model bundle (pipeline/predict.h).
-#include <string>
-#include <vector>
-
 #include "app_common.h"
 #include "commands.h"
 #include "flags.h"
@@ -41,14 +38,12 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
 Writes OUT.npy [K, t_his + t_pred, J, 3] (each sample: the history, then its future; metres;
 the root stays where the history ended: models predict root-relative poses) and OUT.json
 (skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).
-Several motion files: OUT is a folder, OUT/NAME.npy and OUT/NAME.json per file, each file's
-futures the same as predicted alone, files shared by --threads.)");
+Several files: OUT/NAME.npy and OUT/NAME.json each, as predicted alone, shared by --threads.)");
   AddModelOption(cmd, &o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)");
-  cmd->add_option("MOTION", o->histories,
-                  "Motion file(s) holding the history (.bvh, .npy, .csv); several: OUT is a folder")
-      ->check(InputFile);
-  AddDeprecatedOption(cmd, "--history", "the motion file as the first argument", &o->histories)
-      ->check(InputFile);
+  AddMotionArgument(
+      cmd, &o->histories,
+      "Motion file(s) holding the history (.bvh, .npy, .csv); several: OUT is a folder",
+      "--history");
   cmd->add_option("--start", o->files.start,
                   "First history frame (default: the last t_his frames of the file)")
       ->check(NonNegativeNumber);

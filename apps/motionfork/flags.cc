@@ -69,15 +69,6 @@ void NoteDeprecated(const std::string& old_spelling, const std::string& new_spel
                old_spelling.c_str(), new_spelling.c_str());
 }
 
-void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,
-                       const std::string& old_flag) {
-  cmd->add_option("MOTION", *path, help)->check(InputFile);
-  if (!old_flag.empty()) {
-    AddDeprecatedOption(cmd, old_flag, "the motion file as the first argument", path)
-        ->check(InputFile);
-  }
-}
-
 void RequireMotion(const std::string& path) {
   RequireArgument(path, "MOTION (the motion file, first argument)");
 }

@@ -64,8 +64,15 @@ CLI::Option* AddDeprecatedOption(CLI::App* cmd, const std::string& old_flag,
 
 // The motion file a subcommand reads, named by its first argument (MOTION); `old_flag` (e.g.
 // --history) is accepted for one release. Call RequireMotion(path) in the subcommand's callback.
-void AddMotionArgument(CLI::App* cmd, std::string* path, const std::string& help,
-                       const std::string& old_flag = "");
+// Path: std::string, or std::vector<std::string> for several files.
+template <typename Path>
+void AddMotionArgument(CLI::App* cmd, Path* path, const std::string& help,
+                       const std::string& old_flag = "") {
+  cmd->add_option("MOTION", *path, help)->check(InputFile);
+  if (!old_flag.empty())
+    AddDeprecatedOption(cmd, old_flag, "the motion file as the first argument", path)
+        ->check(InputFile);
+}
 // Throws CLI::RequiredError when no motion was named.
 void RequireMotion(const std::string& path);
 // Throws CLI::RequiredError naming `name` when `value` is empty (an option required in one of
