@@ -133,6 +133,7 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
       t.prior_frame_step = GetOr<int>(path, n, "prior_frame_step", t.prior_frame_step);
       t.seed = GetOr<uint64_t>(path, n, "seed", t.seed);
       t.threads = GetOr<int>(path, n, "threads", t.threads);
+      t.sync_batch_norm = GetOr<bool>(path, n, "sync_batch_norm", t.sync_batch_norm);
     }
     CheckTrainConfig(c);
     return c;

@@ -341,12 +341,12 @@ void DataParallel::AverageBuffers(torch::nn::Module& module) {
   }
 }
 
-void DataParallel::SumValues(std::vector<double>* values) {
+void DataParallel::SumValues(std::vector<double>* values, const char* what) {
   if (!distributed() || values->empty()) return;
-  std::vector<at::Tensor> t{torch::tensor(*values, torch::kFloat64)};
-  Collective("sum of the logged figures",
-             [&](c10d::ProcessGroupGloo& gloo) { gloo.allreduce(t)->wait(); });
-  for (size_t i = 0; i < values->size(); ++i) (*values)[i] = t[0][i].item<double>();
+  // The tensor shares the vector's memory: the sums land in place.
+  std::vector<at::Tensor> t{
+      torch::from_blob(values->data(), {static_cast<int64_t>(values->size())}, torch::kFloat64)};
+  Collective(what, [&](c10d::ProcessGroupGloo& gloo) { gloo.allreduce(t)->wait(); });
 }
 
 void DataParallel::Barrier() {

@@ -8,9 +8,11 @@
 // seeded generators and keeps its contiguous share of it (ShareOf); after the backward pass the
 // gradients are summed over the workers, each weighted by its share of the batch, in buckets (one
 // all-reduce per bucket), so that every worker takes the same optimiser step, and the step is the
-// one a single worker takes on the whole batch. Batch normalisation normalises each worker's own
-// share (PyTorch DDP's default); the running statistics are averaged over the workers before a
-// bundle or checkpoint is written (AverageBuffers), so they are identical on every worker.
+// one a single worker takes on the whole batch. Batch normalisation is the trainer's choice: the
+// generator synchronises its batch statistics over the workers (SumValues forward and backward,
+// generator/model/fused_ops.h: BatchSync); a trainer that normalises each worker's own share
+// (PyTorch DDP's default) calls AverageBuffers before a bundle or checkpoint is written, so that
+// the running statistics are identical on every worker.
 //
 // Rank 0 alone writes logs, checkpoints and bundles (writes()). A worker that dies makes the
 // others' next collective fail; the error names the rank that stopped (heartbeats in the store).
@@ -71,8 +73,8 @@ class DataParallel {
   // Floating-point buffers (batch-norm running statistics) averaged over the workers; integer
   // buffers (batch counts) copied from rank 0.
   void AverageBuffers(torch::nn::Module& module);
-  // values[i] summed over the workers, in place.
-  void SumValues(std::vector<double>* values);
+  // values[i] summed over the workers, in place; `what` names the sum in errors.
+  void SumValues(std::vector<double>* values, const char* what = "sum of the logged figures");
   void Barrier();
 
   // Wall seconds spent in ReduceGradients and the number of calls (benchmarks: the all-reduce's

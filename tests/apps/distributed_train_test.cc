@@ -155,21 +155,24 @@ int Rows(const std::string& log) {
   return std::max(rows, 0);
 }
 
-}  // namespace
-
-TEST_CASE("two workers at half the batch each end with one worker's weights at the full batch") {
-  Fixture f;
-  // No batch norm: each worker's share then computes exactly what its rows of the whole batch do.
-  const std::string config = f.Config("tiny.yaml", TinyConfig(false, 1, 20));  // 5 steps
-  Run one = Motionfork(f.Train(config, f.dir.file("one")));
+// Trains `config` on one worker and on two (`extra` added to the two-worker command line); returns
+// the largest difference between the two bundles' tensors.
+double LargestWeightDifference(const Fixture& f, const std::string& config,
+                               const std::string& extra = "") {
+  const std::string one_dir = f.dir.file("one"), two_dir = f.dir.file("two");
+  fs::remove_all(one_dir);
+  fs::remove_all(two_dir);
+  Run one = Motionfork(f.Train(config, one_dir));
   INFO(one.output);
   REQUIRE(one.status == 0);
-  Run two = Motionfork(f.Train(config, f.dir.file("two")) + " --nproc-per-node 2");
+  Run two = Motionfork(f.Train(config, two_dir) + " --nproc-per-node 2" + extra);
   INFO(two.output);
   REQUIRE(two.status == 0);
   CHECK_THAT(two.output, Contains("starting 2 workers (ranks 0..1 of 2"));
-  const auto a = Weights(f.dir.file("one") + "/generator.pt");
-  const auto b = Weights(f.dir.file("two") + "/generator.pt");
+  // Rank 0 alone wrote: one log with one row per epoch.
+  CHECK(Rows(two_dir + "/log.csv") == Rows(one_dir + "/log.csv"));
+  const auto a = Weights(one_dir + "/generator.pt");
+  const auto b = Weights(two_dir + "/generator.pt");
   REQUIRE(a.size() > 4);
   REQUIRE(a.size() == b.size());
   double largest = 0;
@@ -177,10 +180,34 @@ TEST_CASE("two workers at half the batch each end with one worker's weights at t
     REQUIRE(b.count(name));
     largest = std::max(largest, (t - b.at(name)).abs().max().item<double>());
   }
+  return largest;
+}
+
+}  // namespace
+
+TEST_CASE("two workers at half the batch each end with one worker's weights at the full batch") {
+  Fixture f;
+  // No batch norm: each worker's share then computes exactly what its rows of the whole batch do.
+  const double largest =
+      LargestWeightDifference(f, f.Config("tiny.yaml", TinyConfig(false, 1, 20)));
   CHECK(largest < 1e-5);
   CHECK(largest > 0);  // sums in another order: two real runs, not one file twice
-  // Rank 0 alone wrote: one log with one row.
-  CHECK(Rows(f.dir.file("two") + "/log.csv") == 1);
+}
+
+TEST_CASE("with synchronised batch norm two workers end with one worker's weights") {
+  Fixture f;
+  // Batch norm over every worker's share (training.sync_batch_norm, the default): the same steps
+  // as one worker on the whole batch, running statistics included (they are in the bundle).
+  const std::string config = f.Config("tiny.yaml", TinyConfig(true, 1, 20));  // 5 steps
+  const double synced = LargestWeightDifference(f, config);
+  CHECK(synced < 1e-5);
+  CHECK(synced > 0);
+  // Each worker normalising its own share (sync_batch_norm: false) takes other steps.
+  std::string own = TinyConfig(true, 1, 20);
+  own.insert(own.find("  threads: 1"), "  sync_batch_norm: false\n");
+  const double per_worker = LargestWeightDifference(f, f.Config("own.yaml", own));
+  INFO("synchronised: " << synced << ", per worker: " << per_worker);
+  CHECK(per_worker > 100 * synced);
 }
 
 TEST_CASE("with batch norm, two workers' loss curve stays within one worker's seed spread") {

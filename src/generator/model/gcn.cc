@@ -68,13 +68,16 @@ GraphLayerImpl::GraphLayerImpl(int64_t nodes, int64_t in, int64_t out, int64_t s
 torch::Tensor GraphLayerImpl::forward(const torch::Tensor& x, const torch::Tensor& z,
                                       int64_t copies) {
   torch::Tensor y;
-  const double n = static_cast<double>(x.size(1) * copies);  // samples the batch stands for
+  double n = static_cast<double>(x.size(1) * copies);  // samples the batch stands for
   if (!norm) {
     y = FusedTanh(conv->forward(x, z));
-  } else if (is_training() && n > 1) {
+  } else if (is_training() && (n > 1 || sync)) {
     // The conv's bias goes to the batch norm, which cancels it (it is never added).
     torch::Tensor mean, var;
-    y = BatchNormTanh(conv->Mix(x, z), norm->gamma, norm->beta, norm->eps, &mean, &var, conv->bias);
+    double rows = 0;  // the whole batch's, over the workers
+    y = BatchNormTanh(conv->Mix(x, z), norm->gamma, norm->beta, norm->eps, &mean, &var, conv->bias,
+                      sync, &rows);
+    n = rows * static_cast<double>(copies);
     torch::NoGradGuard no_grad;
     norm->running_mean.mul_(1 - norm->momentum).add_(norm->momentum * mean);
     norm->running_var.mul_(1 - norm->momentum).add_(norm->momentum * var * (n / (n - 1)));

@@ -9,6 +9,8 @@
 
 namespace motionfork {
 
+struct BatchSync;  // model/fused_ops.h
+
 // Y = A (X W) + b with a learned dense adjacency A [N, N] (not the skeleton graph).
 // Optionally a second input z [B, Z] shared by all nodes: Y = A (X Wx + z Wz) + b, which equals
 // concatenating z to every node's features, without building the concatenation.
@@ -52,6 +54,9 @@ class GraphLayerImpl : public torch::nn::Module {
   GraphConv conv{nullptr};
   NodeBatchNorm norm{nullptr};
   double dropout;
+  // Training: batch statistics over the workers of a data-parallel run (not owned; null: this
+  // process's batch alone).
+  const BatchSync* sync = nullptr;
 };
 TORCH_MODULE(GraphLayer);
 

@@ -89,6 +89,12 @@ torch::Tensor GeneratorNetImpl::Decode(const torch::Tensor& coeffs,
   return current;
 }
 
+void GeneratorNetImpl::set_batch_sync(const BatchSync* sync) {
+  for (const auto& module : modules()) {
+    if (auto* layer = module->as<GraphLayerImpl>()) layer->sync = sync;
+  }
+}
+
 torch::Tensor GeneratorNetImpl::Frames(const torch::Tensor& coeffs) const {
   const int64_t N = coeffs.size(0), B = coeffs.size(1), n = options_.n_pre;
   // Reorder the (small) coefficients, not the (large) frames: the result is contiguous, which

@@ -53,6 +53,11 @@ class GeneratorNetImpl : public torch::nn::Module {
   torch::Tensor ForwardNested(const torch::Tensor& history, const std::vector<torch::Tensor>& z,
                               const std::vector<int64_t>& per_part);
 
+  // Training: every batch-normalised layer takes its statistics over the workers of a
+  // data-parallel run (synchronised batch norm, model/fused_ops.h); null: this process's batch
+  // alone. Not owned: it must outlive the training.
+  void set_batch_sync(const BatchSync* sync);
+
   const GeneratorOptions& options() const { return options_; }
   int64_t num_parts() const { return static_cast<int64_t>(parts_.size()); }
   const std::vector<std::vector<int64_t>>& part_nodes() const { return part_nodes_; }

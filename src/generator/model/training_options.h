@@ -41,6 +41,10 @@ struct TrainingOptions {
   int prior_frame_step = 3;  // prior NLL on every 3rd predicted frame (random offset)
   uint64_t seed = 0;
   int threads = 1;
+  // Several workers: batch statistics over every worker's share (one sum over the workers per
+  // batch-normalised layer, forward and backward), so that the run takes one worker's steps;
+  // false: each worker normalises its own share (PyTorch DDP's default, no extra traffic).
+  bool sync_batch_norm = true;
 };
 
 struct GeneratorTrainConfig {

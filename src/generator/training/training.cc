@@ -9,6 +9,7 @@
 
 #include "bodyparts/part_plan.h"
 #include "bundle/generator_net_bundle.h"
+#include "generator/model/fused_ops.h"
 #include "generator/model/latents.h"
 #include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
@@ -98,6 +99,9 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   const Share share = workers.BatchShare(Bh);
   const int Bs = static_cast<int>(share.size());
   const double weight = static_cast<double>(Bs) / Bh;
+  BatchSync sync{[&workers](std::vector<double>* v) { workers.SumValues(v, "batch statistics"); },
+                 weight};
+  if (workers.distributed() && t.sync_batch_norm) net->set_batch_sync(&sync);
   std::vector<int64_t> node_parents(N);
   for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
   const int iterations = t.windows_per_epoch / Bh;
@@ -175,6 +179,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     for (const auto& s : sums) totals.push_back(s.second * weight);
     workers.SumValues(&totals);
     for (size_t k = 0; k < sums.size(); ++k) sums[k].second = totals[k] / iterations;
+    // (Synchronised batch norm keeps them equal already; averaging equal values changes nothing.)
     workers.AverageBuffers(*net);
     const double seconds = SecondsSince(epoch_start);
     if (workers.writes()) {
