@@ -128,7 +128,7 @@ void RunEval(EvalCmd o, const GlobalOptions& g) {
     bar.Update(double(partial.settings.size()) / o.eval.noises.size());
   });
   bar.Finish();
-  PrintText(DvaeEvaluationFooterText(e, o.eval, model.threads()));
+  PrintText(DvaeEvaluationFooterText(e, model.threads()));
   EmitJson(o.json_out, DvaeEvaluationJson(e, o.model));
 }
 
@@ -154,10 +154,11 @@ models/bandai/dvae. Windows of the model's length every 'stride' frames, blended
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
   const auto [cmd, e] = AddSubcommand<EvalCmd>(
       &dvae, global, RunEval, "eval",
-      R"(Denoising figures on a protocol's test split: error of noisy, smoothed (baseline), denoised
-(regression mode) and optimised (optimisation mode) motion against the clean one for each noise
-kind, acceleration against the clean motion's, speed, and with --forecaster the forecasting
-ADE/FDE from noisy and denoised histories.)");
+      R"(Denoising figures on a protocol's test split: error of noisy, filtered (Gaussian,
+Savitzky-Golay and one-euro filters, each with the parameters that did best on training clips under
+the same noise), denoised (regression mode) and optimised (optimisation mode) motion against the
+clean one for each noise kind, acceleration against the clean motion's, speed, and with
+--forecaster the forecasting ADE/FDE from noisy and denoised histories.)");
   AddModelOption(cmd, &e->model, "Motion-DVAE bundle folder")->check(CLI::ExistingDirectory);
   AddDataOptions(cmd, &e->data, &e->split_file, "Data folder of the bundle's protocol");
   cmd->add_option(
@@ -169,8 +170,8 @@ ADE/FDE from noisy and denoised histories.)");
   cmd->add_option("--optimisation-clips", e->eval.optimisation_clips,
                   "Of those, how many optimisation mode runs on (default 20)")
       ->check(NonNegativeNumber);
-  cmd->add_option("--smooth-sigma", e->eval.smooth_sigma,
-                  "Baseline's Gaussian sigma in frames (default 2)")
+  cmd->add_option("--tuning-clips", e->eval.tuning_clips,
+                  "Training clips on which the baseline filters are tuned (default 50)")
       ->check(PositiveNumber);
   AddForecasterOptions(cmd, &e->forecaster, &e->eval.forecast_windows, &e->eval.k,
                        "Protocol test windows forecast (default 300)");

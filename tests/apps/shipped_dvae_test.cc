@@ -38,6 +38,9 @@ TEST_CASE("shipped dvae: at 5 cm noise half the error is removed with a plausibl
     INFO(noise);
     CHECK(s["denoised_cm"].get<double>() < s["noisy_cm"].get<double>());
     CHECK(s["accel_ratio_denoised"].get<double>() < s["accel_ratio_noisy"].get<double>());
+    // The three filters, each tuned on training clips: all of them remove some noise.
+    REQUIRE(s["filters"].size() == 3);
+    for (const auto& f : s["filters"]) CHECK(f["cm"].get<double>() < s["noisy_cm"].get<double>());
     if (noise == "gaussian:0.05") {
       CHECK(s["removed"].get<double>() >= 0.5);
       CHECK(s["accel_ratio_denoised"].get<double>() >= 0.5);

@@ -10,13 +10,14 @@ TEST_CASE("evaluation text: a row shows '-' where optimisation mode did not run"
   DenoisingRow r;
   r.noise = "gaussian:0.02";
   r.noisy_cm = 3.5;
-  r.smooth_cm = 2.25;
+  r.filters = {{"gaussian", "gaussian (sigma 2 frames)", 2.0, 2.25, 0.357, 2},
+               {"savitzky-golay", "savitzky-golay (half window 5, order 2)", 2.1, 2.5, 0.28, 3},
+               {"one-euro", "one-euro (min cutoff 1 Hz, beta 0.5)", 2.6, 2.75, 0.2, 4}};
   r.denoised_cm = 1.5;
   r.removed = 0.5714;
   r.optimised_cm = std::nan("");
   r.removed_optimised = std::nan("");
   r.accel_ratio_noisy = 10;
-  r.accel_ratio_smooth = 2;
   r.accel_ratio_denoised = 1.25;
   r.accel_ratio_optimised = std::nan("");
   const std::string row = DenoisingRowText(r);
@@ -26,6 +27,13 @@ TEST_CASE("evaluation text: a row shows '-' where optimisation mode did not run"
   CHECK(row.find(" - ") != std::string::npos);
   CHECK(row.back() == '\n');
   CHECK(row.find("nan") == std::string::npos);
+  // Every filter's test error in the row, the best one's acceleration, each setting below.
+  CHECK(row.find(" 2.25 ") != std::string::npos);
+  CHECK(row.find(" 2.50 ") != std::string::npos);
+  CHECK(row.find(" 2.75 ") != std::string::npos);
+  CHECK(row.find("savitzky-golay (half window 5, order 2), 2.10 cm on the tuning clips\n") !=
+        std::string::npos);
+  CHECK(r.best_filter() == &r.filters[0]);
   r.optimised_cm = 1.0;
   r.removed_optimised = 0.7143;
   r.accel_ratio_optimised = 1.1;
@@ -37,8 +45,7 @@ TEST_CASE("evaluation text: a row shows '-' where optimisation mode did not run"
 TEST_CASE("evaluation text: the footer gives the speed and, when measured, forecasting") {
   DvaeEvaluation e;
   e.regression_frames_per_s = 12345.6;
-  DvaeEvalOptions options;
-  std::string s = DvaeEvaluationFooterText(e, options, 2);
+  std::string s = DvaeEvaluationFooterText(e, 2);
   CHECK(s.find("speed on 2 thread(s): regression 12346 frames/s\n") != std::string::npos);
   CHECK(s.find("optimised: on the first 0 clips") != std::string::npos);
   CHECK(s.find("forecasting") == std::string::npos);
@@ -47,7 +54,7 @@ TEST_CASE("evaluation text: the footer gives the speed and, when measured, forec
   e.iterations = 7;
   e.forecasting = ForecastingFigures{};
   e.forecasting->forecaster = "zero-velocity";
-  s = DvaeEvaluationFooterText(e, options, 1);
+  s = DvaeEvaluationFooterText(e, 1);
   CHECK(s.find(", optimisation 50 frames/s (7 iterations per sequence)") != std::string::npos);
   CHECK(s.find("forecasting (zero-velocity") != std::string::npos);
 }

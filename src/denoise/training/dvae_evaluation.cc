@@ -7,11 +7,27 @@
 
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
+#include "denoise/filter_tuning.h"
 
 namespace motionfork {
 namespace {
 
 using Sequences = std::vector<std::vector<float>>;
+
+// Up to `count` training clips, spread evenly (positions). Throws when the split has none.
+Sequences TuningClips(const Dataset& ds, int count) {
+  const std::vector<int> train = ds.ClipIndices(Split::kTrain);
+  if (train.empty()) {
+    throw std::invalid_argument(
+        "dvae eval: the filters are tuned on training clips, and the protocol's training split "
+        "is empty");
+  }
+  const int used = std::clamp<int>(count, 1, static_cast<int>(train.size()));
+  Sequences out;
+  for (int i = 0; i < used; ++i)
+    out.push_back(ds.clips[train[static_cast<size_t>(i) * train.size() / used]].motion.positions());
+  return out;
+}
 
 struct Figures {
   double err = 0, accel = 0;
@@ -81,6 +97,14 @@ ForecastingFigures Forecasting(const DvaeModel& model, const Dataset& ds,
 
 }  // namespace
 
+const FilterFigure* DenoisingRow::best_filter() const {
+  const FilterFigure* best = nullptr;
+  for (const FilterFigure& f : filters) {
+    if (!best || f.cm < best->cm) best = &f;
+  }
+  return best;
+}
+
 DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const DvaeEvalOptions& o,
                             const std::function<void(const DvaeEvaluation&)>& report) {
   const int J = model.joints();
@@ -101,6 +125,9 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
     if (c < e.optimisation_clips) e.optimisation_frames += n;
   }
   e.test_style = ds.clips[test[0]].subject;
+  const Sequences tuning = TuningClips(ds, o.tuning_clips);
+  e.tuning_clips = static_cast<int>(tuning.size());
+  for (const auto& q : tuning) e.tuning_frames += static_cast<long long>(q.size() / (3 * J));
   e.clean_accel = Measure(clean, clean, J, fps).accel;
   DenoiseOptions reg = o.denoise;
   reg.mode = DenoiseMode::kRegression;
@@ -113,13 +140,10 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
   const Sequences opt_clean(clean.begin(), clean.begin() + e.optimisation_clips);
   for (size_t n = 0; n < o.noises.size(); ++n) {
     const Sequences noisy = Noisy(clean, o.noises[n], o.seed + 1000 * n, J);
-    Sequences smooth;
-    for (const auto& q : noisy) smooth.push_back(GaussianSmooth(q, J, o.smooth_sigma));
     DenoiseStats st, st_opt;
     const Sequences denoised = model.Denoise(noisy, reg, &st);
     reg_seconds += st.seconds;
-    const Figures fn = Measure(noisy, clean, J, fps), fs = Measure(smooth, clean, J, fps),
-                  fd = Measure(denoised, clean, J, fps);
+    const Figures fn = Measure(noisy, clean, J, fps), fd = Measure(denoised, clean, J, fps);
     Figures fo{NAN, NAN}, fon{NAN, NAN};
     if (e.optimisation_clips > 0) {
       const Sequences opt_in(noisy.begin(), noisy.begin() + e.optimisation_clips);
@@ -128,10 +152,30 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
       opt_seconds += st_opt.seconds;
     }
     const double c = e.clean_accel;
-    e.settings.push_back({o.noises[n], 100 * fn.err, 100 * fs.err, 100 * fd.err,
-                          1 - fd.err / fn.err, 100 * fo.err, 100 * fon.err, 1 - fo.err / fon.err,
-                          1 - fs.err / fn.err, fn.accel / c, fs.accel / c, fd.accel / c,
-                          fo.accel / c});
+    DenoisingRow row;
+    row.noise = o.noises[n];
+    row.noisy_cm = 100 * fn.err;
+    row.denoised_cm = 100 * fd.err;
+    row.removed = 1 - fd.err / fn.err;
+    row.optimised_cm = 100 * fo.err;
+    row.optimised_noisy_cm = 100 * fon.err;
+    row.removed_optimised = 1 - fo.err / fon.err;
+    row.accel_ratio_noisy = fn.accel / c;
+    row.accel_ratio_denoised = fd.accel / c;
+    row.accel_ratio_optimised = fo.accel / c;
+    // Each filter tuned on the training clips under this noise kind (other draws), then applied
+    // to the test clips' noisy motion.
+    const Sequences tuning_noisy = Noisy(tuning, o.noises[n], o.seed + 500000 + 1000 * n, J);
+    for (FilterKind kind :
+         {FilterKind::kGaussian, FilterKind::kSavitzkyGolay, FilterKind::kOneEuro}) {
+      const TunedFilter tuned = TuneFilter(kind, tuning_noisy, tuning, J, fps, o.threads);
+      Sequences filtered;
+      for (const auto& q : noisy) filtered.push_back(ApplyFilter(tuned.setting, q, J, fps));
+      const Figures ff = Measure(filtered, clean, J, fps);
+      row.filters.push_back({FilterName(kind), DescribeFilter(tuned.setting), 100 * tuned.error_m,
+                             100 * ff.err, 1 - ff.err / fn.err, ff.accel / c});
+    }
+    e.settings.push_back(std::move(row));
     if (report) report(e);
   }
   e.regression_frames_per_s = e.frames * o.noises.size() / reg_seconds;

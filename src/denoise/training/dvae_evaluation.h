@@ -1,8 +1,9 @@
 // The `motionfork dvae eval` experiment: a Motion-DVAE's denoising figures on its protocol's test
-// split — error of noisy, smoothed (baseline), denoised (regression mode) and optimised
-// (optimisation mode) motion against the clean one for each noise kind, acceleration against the
-// clean motion's, speed and, given a forecaster, the forecasting ADE/FDE from noisy and denoised
-// histories. Part of the denoise training target: it reads datasets.
+// split — error of noisy, filtered (the classical baselines, each tuned on training clips),
+// denoised (regression mode) and optimised (optimisation mode) motion against the clean one for
+// each noise kind, acceleration against the clean motion's, speed and, given a forecaster, the
+// forecasting ADE/FDE from noisy and denoised histories. Part of the denoise training target: it
+// reads datasets.
 #pragma once
 
 #include <cstdint>
@@ -23,7 +24,10 @@ struct DvaeEvalOptions {
                                      "outliers:0.1,0.3", "outliers:0.05,0.5", "jitter:0.05"};
   int clips = 200;              // test clips used, spread evenly
   int optimisation_clips = 20;  // of those, how many optimisation mode runs on
-  double smooth_sigma = 2.0;    // the baseline's Gaussian, frames
+  // Training clips (spread evenly) on which each filter's parameters are chosen for each noise
+  // kind, with noise of other seeds: the test clips are never used to tune a baseline.
+  int tuning_clips = 50;
+  int threads = 1;  // filter tuning
   uint64_t seed = 0;
   DenoiseOptions denoise;        // the mode is set per column
   HistoryForecaster forecaster;  // forecast empty = no forecasting figures
@@ -31,18 +35,31 @@ struct DvaeEvalOptions {
   int k = 50;
 };
 
+// A classical filter with the parameters that did best on the tuning clips for one noise kind.
+struct FilterFigure {
+  std::string filter;          // FilterName
+  std::string setting;         // DescribeFilter of the chosen parameters
+  double tuning_cm = 0;        // its error on the tuning clips
+  double cm = 0, removed = 0;  // on the test clips; removed: 1 - cm / noisy_cm
+  double accel_ratio = 0;
+};
+
 // One noise kind. Errors: mean joint error in cm; accel_ratio_*: mean acceleration over the clean
 // motion's; optimised figures NaN when optimisation mode runs on no clip.
 struct DenoisingRow {
   std::string noise;
-  double noisy_cm = 0, smooth_cm = 0, denoised_cm = 0, removed = 0;
-  double optimised_cm = 0, optimised_noisy_cm = 0, removed_optimised = 0, smooth_removed = 0;
-  double accel_ratio_noisy = 0, accel_ratio_smooth = 0, accel_ratio_denoised = 0;
-  double accel_ratio_optimised = 0;
+  double noisy_cm = 0, denoised_cm = 0, removed = 0;
+  double optimised_cm = 0, optimised_noisy_cm = 0, removed_optimised = 0;
+  double accel_ratio_noisy = 0, accel_ratio_denoised = 0, accel_ratio_optimised = 0;
+  std::vector<FilterFigure> filters;  // Gaussian, Savitzky-Golay, one-euro
+  // The filter of lowest test error (null when there is none).
+  const FilterFigure* best_filter() const;
 };
 
 struct DvaeEvaluation {
   int clips = 0;
+  int tuning_clips = 0;
+  long long tuning_frames = 0;
   long long frames = 0;
   int optimisation_clips = 0;
   long long optimisation_frames = 0;

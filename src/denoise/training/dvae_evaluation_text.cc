@@ -21,33 +21,46 @@ std::string DvaeEvaluationHeaderText(const DvaeEvaluation& e, const DvaeModel& m
       "Motion-DVAE %s (%s parameters%s), %d test clips (%s frames, style '%s' unseen in "
       "training);\n"
       "clean acceleration %.2f m/s^2; %d posterior draws; optimisation mode on the first %d "
-      "clips (%s frames), %d iterations\n",
+      "clips (%s frames), %d iterations;\n"
+      "filters tuned for each noise on %d training clips (%s frames)\n",
       model_path.c_str(), WithThousands(model.num_parameters()).c_str(),
       model.manifest().finetuned ? ", fine-tuned on noisy data" : ", prior only", e.clips,
       WithThousands(e.frames).c_str(), e.test_style.c_str(), e.clean_accel, e.samples,
-      e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations);
-  StringAppendf(
-      &s, "\n%-18s %9s %9s %8s %9s %9s %8s   accel / clean: noisy  smooth  denoised  optimised\n",
-      "noise (cm error)", "noisy", "smooth", "denoised", "removed", "optimised", "removed");
+      e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations,
+      e.tuning_clips, WithThousands(e.tuning_frames).c_str());
+  StringAppendf(&s,
+                "\n%-18s %7s %8s %8s %8s %8s %8s %9s %8s   accel / clean: noisy  best filter  "
+                "denoised  optimised\n",
+                "noise (cm error)", "noisy", "gaussian", "sav-gol", "one-euro", "denoised",
+                "removed", "optimised", "removed");
   return s;
 }
 
 std::string DenoisingRowText(const DenoisingRow& r) {
-  return StringPrintf(
-      "%-18s %9.2f %9.2f %8.2f %9s %9s %8s   %19.2f %7.2f %9.2f %10s\n", r.noise.c_str(),
-      r.noisy_cm, r.smooth_cm, r.denoised_cm, Number(100 * r.removed, "%.1f%%").c_str(),
-      Number(r.optimised_cm, "%.2f").c_str(), Number(100 * r.removed_optimised, "%.1f%%").c_str(),
-      r.accel_ratio_noisy, r.accel_ratio_smooth, r.accel_ratio_denoised,
+  auto filter = [&r](size_t i) {
+    return i < r.filters.size() ? StringPrintf("%.2f", r.filters[i].cm) : std::string("-");
+  };
+  const FilterFigure* best = r.best_filter();
+  std::string s = StringPrintf(
+      "%-18s %7.2f %8s %8s %8s %8.2f %8s %9s %8s   %19.2f %12s %9.2f %10s\n", r.noise.c_str(),
+      r.noisy_cm, filter(0).c_str(), filter(1).c_str(), filter(2).c_str(), r.denoised_cm,
+      Number(100 * r.removed, "%.1f%%").c_str(), Number(r.optimised_cm, "%.2f").c_str(),
+      Number(100 * r.removed_optimised, "%.1f%%").c_str(), r.accel_ratio_noisy,
+      best ? StringPrintf("%.2f", best->accel_ratio).c_str() : "-", r.accel_ratio_denoised,
       Number(r.accel_ratio_optimised, "%.2f").c_str());
+  for (const FilterFigure& f : r.filters) {
+    StringAppendf(&s, "%-18s   %s: %s, %.2f cm on the tuning clips\n", "", f.filter.c_str(),
+                  f.setting.c_str(), f.tuning_cm);
+  }
+  return s;
 }
 
-std::string DvaeEvaluationFooterText(const DvaeEvaluation& e, const DvaeEvalOptions& options,
-                                     int threads) {
+std::string DvaeEvaluationFooterText(const DvaeEvaluation& e, int threads) {
   std::string s = StringPrintf(
-      "(smooth: Gaussian over time, sigma %.3g frames, a baseline; optimised: on the first %d "
-      "clips, against\n"
-      "their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
-      options.smooth_sigma, e.optimisation_clips, threads, e.regression_frames_per_s);
+      "(filters: each with the parameters of least error on the tuning clips; optimised: on the "
+      "first %d clips,\n"
+      "against their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
+      e.optimisation_clips, threads, e.regression_frames_per_s);
   if (e.optimisation_clips > 0) {
     StringAppendf(&s, ", optimisation %.0f frames/s (%d iterations per sequence)",
                   e.optimisation_frames_per_s, e.iterations);

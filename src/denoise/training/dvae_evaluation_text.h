@@ -13,11 +13,10 @@ namespace motionfork {
 // Once the clips are chosen: the model, the test clips and the table's header.
 std::string DvaeEvaluationHeaderText(const DvaeEvaluation& e, const DvaeModel& model,
                                      const std::string& model_path);
-// One noise kind's row of the table.
+// One noise kind's row of the table, then a line per filter with its tuned parameters.
 std::string DenoisingRowText(const DenoisingRow& r);
 // After the last row: what the baseline and optimisation columns mean, the speed on `threads`
 // threads, and the forecasting rows when measured.
-std::string DvaeEvaluationFooterText(const DvaeEvaluation& e, const DvaeEvalOptions& options,
-                                     int threads);
+std::string DvaeEvaluationFooterText(const DvaeEvaluation& e, int threads);
 
 }  // namespace motionfork
