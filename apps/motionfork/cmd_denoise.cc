@@ -1,6 +1,5 @@
 // motionfork denoise / dvae eval: using a trained Motion-DVAE denoiser.
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -154,11 +153,10 @@ models/bandai/dvae. Windows of the model's length every 'stride' frames, blended
 void AddDvaeEvalCommand(CLI::App& dvae, GlobalOptions& global) {
   const auto [cmd, e] = AddSubcommand<EvalCmd>(
       &dvae, global, RunEval, "eval",
-      R"(Denoising figures on a protocol's test split: error of noisy, filtered (Gaussian,
-Savitzky-Golay and one-euro filters, each with the parameters that did best on training clips under
-the same noise), denoised (regression mode) and optimised (optimisation mode) motion against the
-clean one for each noise kind, acceleration against the clean motion's, speed, and with
---forecaster the forecasting ADE/FDE from noisy and denoised histories.)");
+      R"(Denoising figures on a protocol's test split: error of noisy, filtered (Gaussian, Savitzky-Golay,
+one-euro; each tuned on training clips), denoised (regression mode) and optimised (optimisation
+mode) motion against the clean one per noise kind, acceleration against the clean motion's, speed,
+and with --forecaster the forecasting ADE/FDE from noisy and denoised histories.)");
   AddModelOption(cmd, &e->model, "Motion-DVAE bundle folder")->check(CLI::ExistingDirectory);
   AddDataOptions(cmd, &e->data, &e->split_file, "Data folder of the bundle's protocol");
   cmd->add_option(

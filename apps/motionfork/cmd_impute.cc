@@ -1,5 +1,4 @@
 // motionfork impute / ood / hgvae sample / hgvae eval: using a trained HG-VAE.
-#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -198,11 +197,14 @@ void AddHgvaeEvalCommand(CLI::App& hgvae, GlobalOptions& global) {
   const auto [cmd, o] = AddSubcommand<EvalCmd>(
       &hgvae, global, RunEval, "eval",
       R"(An HG-VAE's figures on its protocol's test split: likelihood (ELBO, KL per level), imputation
-MSE vs mean imputation (random 1/10/50/90% of values, whole limbs), out-of-distribution AUROC,
-and with --forecaster the forecasting ADE/FDE from clean, mean-imputed and imputed histories.)");
+of windows vs mean imputation, of whole clips vs interpolation and rigid limbs (random values, gaps
+of 1 frame to 2 s, whole clips), out-of-distribution AUROC, and with --forecaster the forecasting
+ADE/FDE from clean, mean-imputed and imputed histories.)");
   AddModelOption(cmd, &o->model, "HG-VAE bundle folder");
   AddDataOptions(cmd, &o->data, &o->split_file, "Data folder of the model's protocol");
   cmd->add_option("--windows", o->eval.windows, "Test windows, spread evenly (default 1000)")
+      ->check(PositiveNumber);
+  cmd->add_option("--gap-clips", o->eval.gap_clips, "Whole test clips (default 40)")
       ->check(PositiveNumber);
   AddForecasterOptions(cmd, &o->forecaster, &o->eval.forecast_windows, &o->eval.k,
                        "Protocol test windows for them (default 500)");

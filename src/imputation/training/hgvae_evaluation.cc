@@ -1,5 +1,6 @@
 #include "imputation/training/hgvae_evaluation.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -126,6 +127,15 @@ HgvaeEvaluation EvaluateHgvae(const HgvaeModel& model, const Dataset& dataset,
   e.imputation = ImputationExperiment(
       model, windows, StandardOcclusions(model.skeleton()), o.impute, o.seed,
       [&o](int d, int t) { ReportProgress(o.progress, "imputation", double(d) / t); });
+  std::vector<Motion> clips;
+  const std::vector<int> test = dataset.ClipIndices(Split::kTest);
+  const int used = std::min<int>(o.gap_clips, static_cast<int>(test.size()));
+  for (int i = 0; i < used; ++i)
+    clips.push_back(dataset.clips[test[static_cast<size_t>(i) * test.size() / used]].motion);
+  e.gap_clips = used;
+  e.gaps = GapExperiment(model, clips, StandardGapSettings(model.skeleton(), model.manifest().fps),
+                         o.impute, o.seed + 31,
+                         [&o](int d, int t) { ReportProgress(o.progress, "gaps", double(d) / t); });
   OodTests(model, windows, o.seed, &e);
   if (o.forecaster.forecast) e.forecasting = Forecasting(model, dataset, o);
   return e;

@@ -12,6 +12,7 @@
 #include "core/progress.h"
 #include "dataset/dataset.h"
 #include "eval/history_forecasting.h"
+#include "imputation/gap_imputation.h"
 #include "imputation/hgvae_experiments.h"
 #include "imputation/hgvae_model.h"
 
@@ -19,13 +20,14 @@ namespace motionfork {
 
 struct HgvaeEvalOptions {
   int windows = 1000;  // test windows, spread evenly
+  int gap_clips = 40;  // whole test clips of the gap experiment (gap_imputation.h), spread evenly
   uint64_t seed = 0;   // masks and samples
   bool likelihood_only = false;
   ImputeOptions impute;          // imputation settings (usually the bundle's)
   HistoryForecaster forecaster;  // forecast empty = no forecasting figures
   int forecast_windows = 500;    // protocol test windows forecast
   int k = 50;                    // futures per history
-  StageProgress progress;        // "imputation", "forecasting"
+  StageProgress progress;        // "imputation", "gaps", "forecasting"
 };
 
 // Means over windows (nats per window, densities in metres; squared errors in m^2 per value).
@@ -49,7 +51,9 @@ struct HgvaeEvaluation {
   HgvaeLikelihood likelihood;
   bool likelihood_only = false;  // the rest is empty
   std::vector<ImputationFigure> imputation;
-  double clean_flagged = 0;  // share of clean windows flagged
+  int gap_clips = 0;            // whole test clips of the gap experiment
+  std::vector<GapFigure> gaps;  // the HG-VAE beside the classical fills, over whole clips
+  double clean_flagged = 0;     // share of clean windows flagged
   std::vector<OodTest> ood;
   std::optional<ForecastingFigures> forecasting;  // before: mean-imputed, after: HG-VAE-imputed
 };

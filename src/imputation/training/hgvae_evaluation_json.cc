@@ -33,6 +33,24 @@ json ImputationJson(const HgvaeEvaluation& e, const ImputeOptions& options) {
           {"settings", settings}};
 }
 
+json GapsJson(const HgvaeEvaluation& e) {
+  json settings = json::array();
+  for (const GapFigure& g : e.gaps) {
+    json rms = json::object();
+    for (size_t m = 0; m < g.rms_cm.size(); ++m)
+      rms[FillMethodName(AllFillMethods()[m])] = g.rms_cm[m];
+    settings.push_back(
+        {{"setting", g.setting.name},
+         {"clips", g.motions},
+         {"missing_values", g.missing_values},
+         {"rms_cm", rms},
+         {"best_baseline", g.best_baseline() < 0
+                               ? std::string()
+                               : FillMethodName(AllFillMethods()[g.best_baseline()])}});
+  }
+  return {{"clips", e.gap_clips}, {"settings", settings}};
+}
+
 }  // namespace
 
 json HgvaeEvaluationJson(const HgvaeEvaluation& e, const HgvaeModel& model,
@@ -46,6 +64,7 @@ json HgvaeEvaluationJson(const HgvaeEvaluation& e, const HgvaeModel& model,
             {"likelihood", json(nlohmann::json(e.likelihood))}};
   if (!e.likelihood_only) {
     j["imputation"] = ImputationJson(e, impute);
+    j["gaps"] = GapsJson(e);
     j["ood"] = {{"score", ToString(model.manifest().ood_score)},
                 {"threshold", model.OodThreshold()},
                 {"clean_flagged", e.clean_flagged},

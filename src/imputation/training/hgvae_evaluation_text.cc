@@ -31,6 +31,22 @@ void AppendImputation(std::string* s, const HgvaeEvaluation& e, const ImputeOpti
   }
 }
 
+void AppendGaps(std::string* s, const HgvaeEvaluation& e) {
+  StringAppendf(s,
+                "\nimputation over %d whole test clips: RMS error of the filled values, cm (mean: "
+                "the training mean pose;\nlinear, spline: in time; rigid limb: bone lengths kept)"
+                "\n  %-26s %7s",
+                e.gap_clips, "missing", "clips");
+  for (FillMethod m : AllFillMethods()) StringAppendf(s, " %10s", FillMethodName(m).c_str());
+  StringAppendf(s, "   best baseline\n");
+  for (const GapFigure& g : e.gaps) {
+    StringAppendf(s, "  %-26s %7d", g.setting.name.c_str(), g.motions);
+    for (double v : g.rms_cm) StringAppendf(s, " %10.3f", v);
+    const int b = g.best_baseline();
+    StringAppendf(s, "   %s\n", b < 0 ? "-" : FillMethodName(AllFillMethods()[b]).c_str());
+  }
+}
+
 void AppendOod(std::string* s, const HgvaeEvaluation& e, const HgvaeModel& model) {
   StringAppendf(s,
                 "\nout of distribution: AUROC (clean vs degraded) of the joint and the posterior "
@@ -57,6 +73,7 @@ std::string HgvaeEvaluationText(const HgvaeEvaluation& e, const HgvaeModel& mode
   AppendLikelihood(&s, e.likelihood);
   if (!e.likelihood_only) {
     AppendImputation(&s, e, impute);
+    AppendGaps(&s, e);
     AppendOod(&s, e, model);
   }
   if (e.forecasting) {

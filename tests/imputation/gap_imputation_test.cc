@@ -1,0 +1,138 @@
+// Imputation over whole motions, the HG-VAE beside the classical fills: settings, masks and the
+// experiment, on a tiny HG-VAE trained in code and synthetic walks.
+#include "imputation/gap_imputation.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "bundle/hgvae_bundle.h"
+#include "imputation/tiny_hgvae.h"
+#include "test_support.h"
+
+using namespace motionfork;
+
+namespace {
+
+const HgvaeModel& TinyModel() {
+  static testing::TempDir dir;
+  static const HgvaeModel model = [] {
+    testing::WriteTinyHgvaeBundle(dir.file("m"), 8, 6);
+    return LoadHgvaeModel(dir.file("m"));
+  }();
+  return model;
+}
+
+const GapSetting* Named(const std::vector<GapSetting>& settings, const std::string& name) {
+  for (const GapSetting& s : settings) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+TEST_CASE("gap settings: random shares, gaps of 1 frame to 2 s and whole clips of each group") {
+  const auto skeleton = testing::MakeHumanoid();
+  const std::vector<GapSetting> s = StandardGapSettings(*skeleton, 30);
+  // 4 random shares; 4 groups (left hand, left arm, legs, upper) of 5 gaps and a whole clip.
+  CHECK(s.size() == 4 + 4 * 6);
+  REQUIRE(Named(s, "random 10%"));
+  CHECK(Named(s, "random 10%")->share == 0.1);
+  REQUIRE(Named(s, "left hand, 1 frame gap"));
+  CHECK(Named(s, "left hand, 1 frame gap")->joints == std::vector<int>{skeleton->Index("Hand_L")});
+  REQUIRE(Named(s, "left arm, 0.5 s gap"));
+  CHECK(Named(s, "left arm, 0.5 s gap")->gap_frames == 15);
+  CHECK(Named(s, "left arm, 0.5 s gap")->joints.size() == 3);
+  REQUIRE(Named(s, "legs, 2 s gap"));
+  CHECK(Named(s, "legs, 2 s gap")->gap_frames == 60);
+  REQUIRE(Named(s, "upper, whole clip"));
+  CHECK(Named(s, "upper, whole clip")->gap_frames == 0);
+  for (const GapSetting& g : s) {
+    for (int j : g.joints) CHECK(j != 0);  // the root is never missing
+  }
+  // At 4 Hz a quarter second is one frame: that gap is listed once.
+  const std::vector<GapSetting> slow = StandardGapSettings(*skeleton, 4);
+  CHECK(slow.size() == 4 + 4 * 5);
+}
+
+TEST_CASE("gap masks: exact random shares without the root, bracketed gaps, reproducible") {
+  const int T = 50, J = 17;
+  const GapSetting random{"random 10%", 0.1, {}, 0};
+  const std::vector<uint8_t> m = GapMask(random, T, J, 5);
+  int missing = 0;
+  for (int t = 0; t < T; ++t) {
+    for (int v = 0; v < 3 * J; ++v) {
+      missing += m[t * 3 * J + v];
+      if (v < 3) CHECK(m[t * 3 * J + v] == 0);
+    }
+  }
+  CHECK(missing == static_cast<int>(std::lround(0.1 * T * 3 * (J - 1))));
+  CHECK(GapMask(random, T, J, 5) == m);
+  CHECK(GapMask(random, T, J, 6) != m);
+  const GapSetting gap{"gap", 0, {3, 13}, 10};
+  for (uint64_t seed = 0; seed < 20; ++seed) {
+    const std::vector<uint8_t> g = GapMask(gap, T, J, seed);
+    int first = -1, last = -1;
+    for (int t = 0; t < T; ++t) {
+      if (g[t * 3 * J + 13 * 3]) {
+        if (first < 0) first = t;
+        last = t;
+      }
+    }
+    CHECK(last - first + 1 == 10);
+    CHECK(first >= 1);
+    CHECK(last <= T - 2);
+    CHECK(g[first * 3 * J + 3 * 3 + 2] == 1);
+  }
+  CHECK(GapMask(gap, 11, J, 0).empty());  // 10 frames cannot be bracketed in 11
+  CHECK_FALSE(GapMask(gap, 12, J, 0).empty());
+  const GapSetting whole{"whole", 0, {13}, 0};
+  const std::vector<uint8_t> w = GapMask(whole, T, J, 0);
+  for (int t = 0; t < T; ++t) CHECK(w[t * 3 * J + 13 * 3 + 1] == 1);
+}
+
+TEST_CASE(
+    "gap experiment: every method fills, observed values stay, interpolation wins short gaps") {
+  const HgvaeModel& model = TinyModel();
+  const std::vector<Motion> motions = {testing::MakeWalkingMotion(60, 30, 1),
+                                       testing::MakeWalkingMotion(45, 30, 2)};
+  const std::vector<GapSetting> settings = {{"random 10%", 0.1, {}, 0},
+                                            {"left hand, 1 frame gap", 0, {13}, 1},
+                                            {"left arm, whole clip", 0, {11, 12, 13}, 0},
+                                            {"too long", 0, {13}, 100}};
+  // Each method keeps observed values and fills every missing one.
+  const std::vector<uint8_t> mask = GapMask(settings[0], 60, 17, 3);
+  for (FillMethod m : AllFillMethods()) {
+    INFO(FillMethodName(m));
+    const std::vector<float> f = FillMotion(m, model, motions[0], mask, ImputeOptions{});
+    REQUIRE(f.size() == mask.size());
+    for (size_t i = 0; i < f.size(); ++i) {
+      if (!mask[i]) CHECK(f[i] == motions[0].positions()[i]);
+      CHECK(std::isfinite(f[i]));
+    }
+  }
+  int reported = 0;
+  const std::vector<GapFigure> figures =
+      GapExperiment(model, motions, settings, ImputeOptions{}, 9, [&](int d, int t) {
+        CHECK(t == 4);
+        reported = d;
+      });
+  CHECK(reported == 4);
+  REQUIRE(figures.size() == 4);
+  for (int s = 0; s < 3; ++s) {
+    INFO(settings[s].name);
+    CHECK(figures[s].motions == 2);
+    REQUIRE(figures[s].rms_cm.size() == AllFillMethods().size());
+    for (double v : figures[s].rms_cm) CHECK(std::isfinite(v));
+    CHECK(figures[s].best_baseline() != static_cast<int>(FillMethod::kHgvae));
+  }
+  CHECK(figures[1].missing_values == 2 * 3);
+  // A one-frame gap in a smooth walk: linear interpolation far below the mean pose.
+  CHECK(figures[1].rms_cm[1] < 0.2 * figures[1].rms_cm[0]);
+  // Nothing to bracket: no clip, no figure.
+  CHECK(figures[3].motions == 0);
+  CHECK(std::isnan(figures[3].rms_cm[0]));
+  // The same seed, the same figures.
+  const std::vector<GapFigure> again = GapExperiment(model, motions, settings, ImputeOptions{}, 9);
+  CHECK(again[0].rms_cm == figures[0].rms_cm);
+}
