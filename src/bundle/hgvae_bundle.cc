@@ -53,7 +53,7 @@ void ParseModel(const std::string& file, const YAML::Node& n, HgvaeOptions* o) {
 }
 
 void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o) {
-  CheckKeys(file, n, "impute", {"steps", "learning_rate", "objective"});
+  CheckKeys(file, n, "impute", {"steps", "learning_rate", "objective", "start"});
   o->steps = GetOr<int>(file, n, "steps", o->steps);
   o->learning_rate = GetOr<double>(file, n, "learning_rate", o->learning_rate);
   if (n["objective"]) {
@@ -63,13 +63,20 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
       Fail(file, n["objective"], e.what());
     }
   }
+  if (n["start"]) {
+    try {
+      o->start = ParseImputeStart(Get<std::string>(file, n, "start"));
+    } catch (const std::invalid_argument& e) {
+      Fail(file, n["start"], e.what());
+    }
+  }
   if (o->steps < 0 || !(o->learning_rate > 0))
     Fail(file, n, "impute: expected steps >= 0 and learning_rate > 0");
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
   yaml_util::EmitMap(out, "impute", "steps", o.steps, "learning_rate", o.learning_rate, "objective",
-                     ToString(o.objective));
+                     ToString(o.objective), "start", ToString(o.start));
 }
 
 void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {

@@ -30,14 +30,6 @@ std::string GapName(const std::string& group, int frames, double fps) {
   return group + ", " + seconds + " s gap";
 }
 
-// The training mean pose [J, 3] about a zero root.
-std::vector<float> MeanPose(const HgvaeModel& model) {
-  const std::vector<double>& mean = model.manifest().mean;
-  std::vector<float> pose(3 + mean.size(), 0.0f);
-  for (size_t v = 0; v < mean.size(); ++v) pose[3 + v] = static_cast<float>(mean[v]);
-  return pose;
-}
-
 }  // namespace
 
 std::vector<GapSetting> StandardGapSettings(const Skeleton& skeleton, double fps) {
@@ -108,9 +100,9 @@ std::vector<uint8_t> GapMask(const GapSetting& setting, int frames, int joints, 
 }
 
 const std::vector<FillMethod>& AllFillMethods() {
-  static const std::vector<FillMethod> all = {FillMethod::kMean, FillMethod::kLinear,
-                                              FillMethod::kCubicSpline, FillMethod::kRigidLimb,
-                                              FillMethod::kHgvae};
+  static const std::vector<FillMethod> all = {
+      FillMethod::kMean,      FillMethod::kLinear, FillMethod::kCubicSpline,
+      FillMethod::kRigidLimb, FillMethod::kHgvae,  FillMethod::kHgvaeFromSpline};
   return all;
 }
 
@@ -126,6 +118,8 @@ std::string FillMethodName(FillMethod method) {
       return "rigid limb";
     case FillMethod::kHgvae:
       return "hg-vae";
+    case FillMethod::kHgvaeFromSpline:
+      return "hg-vae+spline";
   }
   return "?";
 }
@@ -136,7 +130,7 @@ std::vector<float> FillMotion(FillMethod method, const HgvaeModel& model, const 
   const std::vector<float>& p = motion.positions();
   switch (method) {
     case FillMethod::kMean: {
-      const std::vector<float> mean = MeanPose(model);
+      const std::vector<float> mean = TrainingMeanPose(model);
       std::vector<float> out = p;
       for (int t = 0; t < T; ++t) {
         for (int v = 3; v < 3 * J; ++v) {
@@ -147,13 +141,19 @@ std::vector<float> FillMotion(FillMethod method, const HgvaeModel& model, const 
       return out;
     }
     case FillMethod::kLinear:
-      return InterpolateMissing(p, missing, J, Interpolation::kLinear, MeanPose(model));
+      return InterpolateMissing(p, missing, J, Interpolation::kLinear, TrainingMeanPose(model));
     case FillMethod::kCubicSpline:
-      return InterpolateMissing(p, missing, J, Interpolation::kCubicSpline, MeanPose(model));
+      return InterpolateMissing(p, missing, J, Interpolation::kCubicSpline,
+                                TrainingMeanPose(model));
     case FillMethod::kRigidLimb:
-      return RigidLimbFill(motion.skeleton(), p, missing, MeanPose(model));
+      return RigidLimbFill(motion.skeleton(), p, missing, TrainingMeanPose(model));
     case FillMethod::kHgvae:
       return ImputeMotion(model, motion, missing, options).motion.positions();
+    case FillMethod::kHgvaeFromSpline: {
+      ImputeOptions from_spline = options;
+      from_spline.start = ImputeStart::kSpline;
+      return ImputeMotion(model, motion, missing, from_spline).motion.positions();
+    }
   }
   throw std::invalid_argument("FillMotion: unknown method");
 }
@@ -166,7 +166,8 @@ double GapFigure::best_baseline_cm() const {
 int GapFigure::best_baseline() const {
   int best = -1;
   for (size_t m = 0; m < rms_cm.size() && m < AllFillMethods().size(); ++m) {
-    if (AllFillMethods()[m] == FillMethod::kHgvae) continue;
+    const FillMethod method = AllFillMethods()[m];
+    if (method == FillMethod::kHgvae || method == FillMethod::kHgvaeFromSpline) continue;
     if (best < 0 || rms_cm[m] < rms_cm[best]) best = static_cast<int>(m);
   }
   return best;

@@ -35,15 +35,16 @@ std::vector<GapSetting> StandardGapSettings(const Skeleton& skeleton, double fps
 std::vector<uint8_t> GapMask(const GapSetting& setting, int frames, int joints, uint64_t seed);
 
 // The fills compared, in table order.
-enum class FillMethod { kMean, kLinear, kCubicSpline, kRigidLimb, kHgvae };
+enum class FillMethod { kMean, kLinear, kCubicSpline, kRigidLimb, kHgvae, kHgvaeFromSpline };
 const std::vector<FillMethod>& AllFillMethods();
-std::string FillMethodName(
-    FillMethod method);  // "mean", "linear", "spline", "rigid limb", "hg-vae"
+// "mean", "linear", "spline", "rigid limb", "hg-vae", "hg-vae+spline"
+std::string FillMethodName(FillMethod method);
 
 // One method's fill of motion's missing values (observed ones unchanged). Mean: the HG-VAE's
 // training mean pose about the frame's root; linear / spline: InterpolateMissing, rigid limb:
 // RigidLimbFill (interpolation_fill.h), both falling back on the mean pose where a value is never
-// observed; hg-vae: ImputeMotion (motion_imputation.h).
+// observed; hg-vae: ImputeMotion (motion_imputation.h) with `options`, hg-vae+spline: the same
+// starting from the spline (ImputeStart::kSpline).
 std::vector<float> FillMotion(FillMethod method, const HgvaeModel& model, const Motion& motion,
                               const std::vector<uint8_t>& missing, const ImputeOptions& options);
 
@@ -52,7 +53,7 @@ struct GapFigure {
   int motions = 0;  // clips the setting could be applied to
   int64_t missing_values = 0;
   std::vector<double> rms_cm;  // per AllFillMethods(), over every missing value
-  // The lowest RMS among the classical methods (all but the HG-VAE), and its index.
+  // The lowest RMS among the classical methods (not the HG-VAE's), and its index.
   double best_baseline_cm() const;
   int best_baseline() const;
 };

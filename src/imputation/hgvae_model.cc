@@ -157,12 +157,13 @@ std::vector<float> HgvaeModel::MeanImpute(const std::vector<float>& windows,
 
 ImputeResult HgvaeModel::Impute(const std::vector<float>& windows,
                                 const std::vector<uint8_t>& missing, const ImputeOptions& options,
-                                int class_index) const {
+                                int class_index, const std::vector<float>* start) const {
   const Impl& im = *impl_;
   const int64_t count = im.CheckWindows(windows, "Impute");
-  if (missing.size() != windows.size()) {
+  if (missing.size() != windows.size() || (start && start->size() != windows.size())) {
     throw std::invalid_argument("Impute: the mask has " + std::to_string(missing.size()) +
-                                " values, the windows " + std::to_string(windows.size()));
+                                " values, the windows " + std::to_string(windows.size()) +
+                                (start ? ", the start " + std::to_string(start->size()) : ""));
   }
   const size_t per = static_cast<size_t>(im.T() * im.N());
   for (int64_t w = 0; w < count; ++w) {
@@ -175,8 +176,10 @@ ImputeResult HgvaeModel::Impute(const std::vector<float>& windows,
   const auto chunks = ForChunks(count, threads_, [&](int64_t s, int64_t n) {
     const torch::Tensor mask = im.tensors->MaskToNodeMajor(missing.data() + s * per, n);
     const torch::Tensor raw = im.tensors->ToNodeMajor(windows.data() + s * per, n);
-    const torch::Tensor x0 =
-        torch::where(mask > 0, torch::zeros_like(raw), raw);  // missing -> mean (0)
+    // Missing -> the start's values, or the mean (0 in normalised coordinates).
+    const torch::Tensor from =
+        start ? im.tensors->ToNodeMajor(start->data() + s * per, n) : torch::zeros_like(raw);
+    const torch::Tensor x0 = torch::where(mask > 0, from, raw);
     const torch::Tensor labels = im.Labels(class_index, n);
     torch::Tensor v = torch::zeros_like(x0).requires_grad_(true);
     torch::optim::Adam adam({v}, torch::optim::AdamOptions(options.learning_rate));

@@ -64,11 +64,13 @@ class HgvaeModel {
   double OodThreshold() const;  // score_mean - k * score_std
   bool OutOfDistribution(double score) const { return score < OodThreshold(); }
 
-  // Missing values (mask 1) start at the training mean and move by Adam on the objective; each
-  // window keeps its best step. Throws std::invalid_argument for a window with every value
-  // missing or mismatched sizes.
+  // Missing values (mask 1) start at the training mean, or where `start` (laid out as windows,
+  // e.g. an interpolation; options.start is not read here) has them, and move by Adam on the
+  // objective; each window keeps its best step. Throws std::invalid_argument for a window with
+  // every value missing or mismatched sizes.
   ImputeResult Impute(const std::vector<float>& windows, const std::vector<uint8_t>& missing,
-                      const ImputeOptions& options, int class_index = -1) const;
+                      const ImputeOptions& options, int class_index = -1,
+                      const std::vector<float>* start = nullptr) const;
   // Mean imputation (the baseline): missing values -> training mean.
   std::vector<float> MeanImpute(const std::vector<float>& windows,
                                 const std::vector<uint8_t>& missing) const;

@@ -6,6 +6,12 @@ namespace motionfork {
 
 const char* ToString(ImputeObjective objective) { return NameOf(objective, kImputeObjectiveNames); }
 
+const char* ToString(ImputeStart start) { return NameOf(start, kImputeStartNames); }
+
+ImputeStart ParseImputeStart(const std::string& text) {
+  return ParseEnumName(text, kImputeStartNames, "impute start");
+}
+
 ImputeObjective ParseImputeObjective(const std::string& text) {
   return ParseEnumName(text, kImputeObjectiveNames, "impute objective");
 }
@@ -14,6 +20,7 @@ ImputeOptions ImputeOverrides::Apply(ImputeOptions o) const {
   if (steps >= 0) o.steps = steps;
   if (learning_rate > 0) o.learning_rate = learning_rate;
   if (!objective.empty()) o.objective = ParseImputeObjective(objective);
+  if (!start.empty()) o.start = ParseImputeStart(start);
   return o;
 }
 

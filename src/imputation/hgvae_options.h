@@ -62,18 +62,32 @@ inline constexpr EnumName<ImputeObjective> kImputeObjectiveNames[] = {
 const char* ToString(ImputeObjective objective);
 ImputeObjective ParseImputeObjective(const std::string& text);  // "posterior" | "joint"
 
+// Where the missing values of a whole motion start before the Adam steps (ImputeMotion).
+enum class ImputeStart {
+  kMean,    // the training mean pose (the paper's)
+  kLinear,  // linear interpolation in time from the observed frames (interpolation_fill.h)
+  kSpline,  // natural cubic-spline interpolation in time
+};
+inline constexpr EnumName<ImputeStart> kImputeStartNames[] = {{ImputeStart::kMean, "mean"},
+                                                              {ImputeStart::kLinear, "linear"},
+                                                              {ImputeStart::kSpline, "spline"}};
+const char* ToString(ImputeStart start);
+ImputeStart ParseImputeStart(const std::string& text);  // "mean" | "linear" | "spline"
+
 struct ImputeOptions {
   int steps = 10;              // Adam steps on the missing values (paper: 10, or 100)
   double learning_rate = 0.1;  // Adam step on normalised coordinates (one unit = one training std)
   ImputeObjective objective = ImputeObjective::kJoint;
+  ImputeStart start = ImputeStart::kMean;
 };
 
 // Command-line overrides of a bundle's ImputeOptions; unset fields (steps < 0, learning_rate <= 0,
-// objective "") keep the bundle's value.
+// objective "", start "") keep the bundle's value.
 struct ImputeOverrides {
   int steps = -1;
   double learning_rate = 0;
   std::string objective;  // "posterior" | "joint" | ""
+  std::string start;      // "mean" | "linear" | "spline" | ""
   ImputeOptions Apply(ImputeOptions o) const;
 };
 

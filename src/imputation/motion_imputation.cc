@@ -3,7 +3,16 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "imputation/interpolation_fill.h"
+
 namespace motionfork {
+
+std::vector<float> TrainingMeanPose(const HgvaeModel& model) {
+  const std::vector<double>& mean = model.manifest().mean;
+  std::vector<float> pose(3 + mean.size(), 0.0f);
+  for (size_t v = 0; v < mean.size(); ++v) pose[3 + v] = static_cast<float>(mean[v]);
+  return pose;
+}
 
 std::vector<int> CoveringWindowStarts(int frames, int window, int stride) {
   std::vector<int> starts;
@@ -83,8 +92,23 @@ MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion,
     }
     starts.push_back(s);
   }
-  const ImputeResult r =
-      model.Impute(Gather(poses, starts, W, N), Gather(mask, starts, W, N), options, class_index);
+  std::vector<float> start;  // the start's root-relative poses (empty: the mean)
+  if (options.start != ImputeStart::kMean) {
+    const std::vector<float> fill =
+        InterpolateMissing(p, missing, J,
+                           options.start == ImputeStart::kLinear ? Interpolation::kLinear
+                                                                 : Interpolation::kCubicSpline,
+                           TrainingMeanPose(model));
+    start.resize(poses.size());
+    for (int t = 0; t < T; ++t) {
+      const size_t f = static_cast<size_t>(t) * J * 3;
+      for (int v = 0; v < N; ++v)
+        start[static_cast<size_t>(t) * N + v] = fill[f + 3 + v] - p[f + v % 3];
+    }
+    start = Gather(start, starts, W, N);
+  }
+  const ImputeResult r = model.Impute(Gather(poses, starts, W, N), Gather(mask, starts, W, N),
+                                      options, class_index, start.empty() ? nullptr : &start);
   // Average where windows overlap.
   std::vector<double> sum(poses.size(), 0.0);
   std::vector<int> hits(poses.size(), 0);

@@ -19,9 +19,10 @@ struct MotionImputation {
 
 // The motion must be on the model's skeleton and frame rate (root first, metres); `missing` is
 // [T, J, 3], 1 = missing. Windows start at 0, W, 2W, ... and one more ends at the last frame;
-// frames two windows cover get the mean of both. Throws std::invalid_argument for a motion
-// shorter than the window, a missing root value (poses are root-relative; names the frame), a
-// window with every value missing (names its frames), or a mask of the wrong size.
+// frames two windows cover get the mean of both. Missing values start where options.start says
+// (the mean pose, or an interpolation over the whole motion). Throws std::invalid_argument for a
+// motion shorter than the window, a missing root value (poses are root-relative; names the frame),
+// a window with every value missing (names its frames), or a mask of the wrong size.
 MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion,
                               const std::vector<uint8_t>& missing, const ImputeOptions& options,
                               int class_index = -1);
@@ -35,6 +36,9 @@ struct WindowScore {
 // Windows starting every `stride` frames (and one ending at the last frame).
 std::vector<WindowScore> ScoreMotion(const HgvaeModel& model, const Motion& motion, int stride,
                                      int class_index = -1);
+
+// The model's training mean pose [J, 3] about a zero root (a fallback for values never observed).
+std::vector<float> TrainingMeanPose(const HgvaeModel& model);
 
 // Start frames of windows of `window` frames every `stride` frames covering 0..frames-1.
 std::vector<int> CoveringWindowStarts(int frames, int window, int stride);
