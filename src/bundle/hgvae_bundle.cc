@@ -75,8 +75,15 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
-  yaml_util::EmitMap(out, "impute", "steps", o.steps, "learning_rate", o.learning_rate, "objective",
-                     ToString(o.objective), "start", ToString(o.start));
+  // The start only when it is not the mean: bundles from before it existed re-emit as written
+  // (their weights hold a copy of the manifest, which a load compares).
+  out << YAML::Key << "impute" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "steps" << YAML::Value << o.steps << YAML::Key << "learning_rate"
+      << YAML::Value << o.learning_rate << YAML::Key << "objective" << YAML::Value
+      << ToString(o.objective);
+  if (o.start != ImputeStart::kMean)
+    out << YAML::Key << "start" << YAML::Value << ToString(o.start);
+  out << YAML::EndMap;
 }
 
 void EmitModel(YAML::Emitter& out, const HgvaeOptions& o) {

@@ -1,6 +1,7 @@
 #include "torch_util/data_parallel.h"
 
 #include "launch/worker_place.h"
+#include "torch_util/threads.h"
 
 // Debian's LibTorch is built with Gloo; its header declares ProcessGroupGloo only under this macro.
 #ifndef USE_C10D_GLOO
@@ -195,6 +196,8 @@ DataParallel::DataParallel(const WorkerPlace& place, milliseconds timeout,
       // The store is gone (rank 0 stopped): the next collective reports it.
     }
   });
+  // Every collective waits for the other workers' communication threads: let them run at once.
+  ShortenHelperThreadSlices();
 }
 
 DataParallel::~DataParallel() = default;
