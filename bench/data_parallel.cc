@@ -1,15 +1,16 @@
 // Benchmark: data-parallel training and multi-threaded evaluation, as users run them (the
 // motionfork command), one worker against two in turns (A/B interleaved), on the Bandai set.
 //
-//   bench_data_parallel [DATA_DIR] [ROUNDS] [MOTIONFORK] [CONFIG]
-//   defaults: ../shared/data/bandai 3 <build>/apps/motionfork/motionfork bandai
+//   bench_data_parallel [DATA_DIR] [ROUNDS] [MOTIONFORK] [CONFIG] [EVAL]
+//   defaults: ../shared/data/bandai 3 <build>/apps/motionfork/motionfork bandai 1 (0: training
+//   only)
 //
 // Per round: one generator epoch of CONFIG (configs/models/CONFIG.yaml: the same windows an epoch)
 // with 1 worker, then with `--nproc-per-node 2`; `eval` of the shipped model on the test split
-// with --threads 1, then 2. Prints each time, the speed-ups, the gradient all-reduce's share of a
-// 2-worker step, and from it a projection of the speed-up at 8, 32 and 128 workers over a network
-// of stated bandwidth and latency (ring all-reduce; a step keeps at least one history per worker).
-// Run on an idle machine: both cores are used.
+// with --threads 1, then 2. Prints each time, the speed-ups, the gradient all-reduce's and the
+// synchronised batch norm's shares of a 2-worker step, and from it a projection of the speed-up at
+// 8, 32 and 128 workers over a network of stated bandwidth and latency (ring all-reduce; a step
+// keeps at least one history per worker). Run on an idle machine: both cores are used.
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -81,6 +82,7 @@ int main(int argc, char** argv) {
       argc > 3 ? argv[3]
                : (self.parent_path().parent_path() / "apps/motionfork/motionfork").string();
   const std::string config = argc > 4 ? argv[4] : "bandai";
+  const bool with_eval = argc > 5 ? std::stoi(argv[5]) != 0 : true;
   const fs::path scratch = fs::temp_directory_path() / "motionfork_bench_data_parallel";
   fs::remove_all(scratch);
   fs::create_directories(scratch);
@@ -91,13 +93,15 @@ int main(int argc, char** argv) {
   // Warm-up: the dataset and the pseudo multimodal futures into the cache, the multimodal sets.
   RunCommand(common + "train --config " + config + " --data " + data + " --out " +
              (scratch / "warm").string() + " --epochs 1 --stop-after 1");
-  RunCommand(common + "eval --protocol bandai --data " + data + " --baseline zero -k 2");
+  if (with_eval)
+    RunCommand(common + "eval --protocol bandai --data " + data + " --baseline zero -k 2");
 
-  std::vector<double> train1, train2, eval1, eval2, reduce_share, step_ms, reduce_ms;
+  std::vector<double> train1, train2, eval1, eval2, reduce_share, step_ms, reduce_ms, sync_share;
   double grad_mb = 0;
   int steps = 0;
   const std::regex reduce_line(
       R"(gradient all-reduce: ([0-9.]+) s of ([0-9.]+) s \([0-9.]+%\), ([0-9]+) steps, ([0-9.]+) MB)");
+  const std::regex sync_line(R"(batch-norm sums: ([0-9.]+) s of ([0-9.]+) s)");
   for (int r = 0; r < rounds; ++r) {
     for (int workers : {1, 2}) {
       const fs::path out = scratch / ("w" + std::to_string(workers) + "_" + std::to_string(r));
@@ -108,6 +112,8 @@ int main(int argc, char** argv) {
       (workers == 1 ? train1 : train2).push_back(s);
       std::printf("round %d: generator epoch, %d worker(s): %.2f s\n", r + 1, workers, s);
       std::smatch m;
+      if (workers > 1 && std::regex_search(o.text, m, sync_line))
+        sync_share.push_back(std::stod(m[1]) / std::stod(m[2]));
       if (workers > 1 && std::regex_search(o.text, m, reduce_line)) {
         reduce_share.push_back(std::stod(m[1]) / std::stod(m[2]));
         steps = std::stoi(m[3]);
@@ -118,6 +124,7 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
     for (int threads : {1, 2}) {
+      if (!with_eval) break;
       const Output o = RunCommand(common + "eval --protocol bandai --data " + data + " --model " +
                                   models + "/bandai --threads " + std::to_string(threads));
       (threads == 1 ? eval1 : eval2).push_back(o.seconds);
@@ -129,8 +136,14 @@ int main(int argc, char** argv) {
   const double t1 = Median(train1), t2 = Median(train2);
   std::printf("\ngenerator epoch: 1 worker %.2f s, 2 workers %.2f s (medians): %.2fx\n", t1, t2,
               t1 / t2);
-  std::printf("eval, test split: 1 thread %.2f s, 2 threads %.2f s (medians): %.2fx\n",
-              Median(eval1), Median(eval2), Median(eval1) / Median(eval2));
+  if (with_eval) {
+    std::printf("eval, test split: 1 thread %.2f s, 2 threads %.2f s (medians): %.2fx\n",
+                Median(eval1), Median(eval2), Median(eval1) / Median(eval2));
+  }
+  if (!sync_share.empty()) {
+    std::printf("2 workers: synchronised batch norm's sums %.1f%% of the run (median)\n",
+                100 * Median(sync_share));
+  }
   if (reduce_share.empty()) return 0;
   const double share = Median(reduce_share);
   std::printf(

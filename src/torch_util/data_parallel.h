@@ -80,6 +80,9 @@ class DataParallel {
   // Wall seconds spent in ReduceGradients and the number of calls (benchmarks: the all-reduce's
   // share of a step).
   double reduce_seconds() const { return reduce_seconds_; }
+  // The same for SumValues (the epoch's figures and synchronised batch statistics).
+  double sum_seconds() const { return sum_seconds_; }
+  int64_t sum_calls() const { return sum_calls_; }
   int64_t reduce_calls() const { return reduce_calls_; }
 
   static constexpr int64_t kBucketBytes = 25 << 20;                // as PyTorch DDP's bucket_cap_mb
@@ -95,7 +98,8 @@ class DataParallel {
   std::unique_ptr<const WorkerPlace> place_;  // set when distributed
   std::unique_ptr<Group> group_;
   int64_t bucket_bytes_ = kBucketBytes;
-  double reduce_seconds_ = 0;
+  double reduce_seconds_ = 0, sum_seconds_ = 0;
+  int64_t sum_calls_ = 0;
   int64_t reduce_calls_ = 0;
 };
 

@@ -195,6 +195,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   summary.seconds = SecondsSince(start);
   summary.workers = workers.world_size();
   summary.reduce_seconds = workers.reduce_seconds();
+  summary.sync_seconds = workers.sum_seconds();
+  summary.sync_calls = workers.sum_calls();
   summary.steps = static_cast<int64_t>(summary.epochs_done - summary.first_epoch) * iterations;
   for (const torch::Tensor& p : net->parameters()) summary.gradient_mb += p.numel() * 4e-6;
   return summary;

@@ -35,8 +35,10 @@ struct TrainSummary {
   double seconds = 0;
   int workers = 1;            // processes in the run (data_parallel.h)
   double reduce_seconds = 0;  // of `seconds`, in the gradient all-reduce (several workers)
-  int64_t steps = 0;          // optimiser steps of this run
-  double gradient_mb = 0;     // gradients all-reduced a step, MB
+  double sync_seconds = 0;    // of `seconds`, in the batch-norm sums (synchronised batch norm)
+  int64_t sync_calls = 0;
+  int64_t steps = 0;       // optimiser steps of this run
+  double gradient_mb = 0;  // gradients all-reduced a step, MB
 };
 
 // model: protocol, skeleton and generator sizes (from the train config and the protocol). Writes

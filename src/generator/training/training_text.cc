@@ -44,6 +44,11 @@ std::string TrainingDoneText(const TrainSummary& s, int epochs, const std::strin
                   "gradients a step, %d workers\n",
                   s.reduce_seconds, s.seconds, 100 * s.reduce_seconds / s.seconds,
                   static_cast<long long>(s.steps), s.gradient_mb, s.workers);
+    if (s.sync_calls > 0) {
+      StringAppendf(&text, "batch-norm sums: %.2f s of %.2f s (%.1f%%), %lld calls\n",
+                    s.sync_seconds, s.seconds, 100 * s.sync_seconds / s.seconds,
+                    static_cast<long long>(s.sync_calls));
+    }
   }
   return text;
 }
