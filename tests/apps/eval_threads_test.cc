@@ -82,15 +82,17 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
   const std::string common = " --data " + data + " --split " + SmallSplit(data, dir) +
                              " --forecaster " + models + " -k 5 --forecast-windows 12";
   SECTION("hgvae eval: likelihood, imputation (several chunks), OoD, forecasting") {
-    CheckSameFigures("-q hgvae eval --model " + models + "/hgvae --windows 100" + common, dir);
+    CheckSameFigures(
+        "-q hgvae eval --model " + models + "/hgvae --windows 100 --gap-clips 3" + common, dir);
     CHECK(Figures(dir.file("1.json"))["windows"].get<int>() == 100);
   }
   SECTION("dvae eval: regression and optimisation modes, forecasting") {
-    CheckSameFigures("-q dvae eval --model " + models +
-                         "/dvae --test-clips 4 --optimisation-clips 2 --noise gaussian:0.05 "
-                         "--noise outliers:0.1,0.3" +
-                         common,
-                     dir);
+    CheckSameFigures(
+        "-q dvae eval --model " + models +
+            "/dvae --test-clips 4 --optimisation-clips 2 --tuning-clips 5 --noise gaussian:0.05 "
+            "--noise outliers:0.1,0.3" +
+            common,
+        dir);
     CHECK(Figures(dir.file("1.json"))["optimisation_clips"].get<int>() == 2);
   }
 }
