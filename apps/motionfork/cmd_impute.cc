@@ -204,8 +204,8 @@ ADE/FDE from clean, mean-imputed and imputed histories.)");
   AddDataOptions(cmd, &o->data, &o->split_file, "Data folder of the model's protocol");
   cmd->add_option("--windows", o->eval.windows, "Test windows, spread evenly (default 1000)")
       ->check(PositiveNumber);
-  cmd->add_option("--gap-clips", o->eval.gap_clips, "Whole test clips (default 40)")
-      ->check(PositiveNumber);
+  cmd->add_option("--gap-clips", o->eval.gap_clips, "Whole test clips (default 40; 0: none)")
+      ->check(NonNegativeNumber);
   AddForecasterOptions(cmd, &o->forecaster, &o->eval.forecast_windows, &o->eval.k,
                        "Protocol test windows for them (default 500)");
   cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)")->check(Seed);

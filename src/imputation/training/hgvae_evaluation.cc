@@ -133,9 +133,10 @@ HgvaeEvaluation EvaluateHgvae(const HgvaeModel& model, const Dataset& dataset,
   for (int i = 0; i < used; ++i)
     clips.push_back(dataset.clips[test[static_cast<size_t>(i) * test.size() / used]].motion);
   e.gap_clips = used;
-  e.gaps = GapExperiment(model, clips, StandardGapSettings(model.skeleton(), model.manifest().fps),
-                         o.impute, o.seed + 31,
-                         [&o](int d, int t) { ReportProgress(o.progress, "gaps", double(d) / t); });
+  if (used > 0)
+    e.gaps = GapExperiment(
+        model, clips, StandardGapSettings(model.skeleton(), model.manifest().fps), o.impute,
+        o.seed + 31, [&o](int d, int t) { ReportProgress(o.progress, "gaps", double(d) / t); });
   OodTests(model, windows, o.seed, &e);
   if (o.forecaster.forecast) e.forecasting = Forecasting(model, dataset, o);
   return e;

@@ -20,7 +20,8 @@ namespace motionfork {
 
 struct HgvaeEvalOptions {
   int windows = 1000;  // test windows, spread evenly
-  int gap_clips = 40;  // whole test clips of the gap experiment (gap_imputation.h), spread evenly
+  int gap_clips = 40;  // whole test clips of the gap experiment (gap_imputation.h), spread evenly;
+                       // 0: no such experiment
   uint64_t seed = 0;   // masks and samples
   bool likelihood_only = false;
   ImputeOptions impute;          // imputation settings (usually the bundle's)

@@ -64,7 +64,7 @@ json HgvaeEvaluationJson(const HgvaeEvaluation& e, const HgvaeModel& model,
             {"likelihood", json(nlohmann::json(e.likelihood))}};
   if (!e.likelihood_only) {
     j["imputation"] = ImputationJson(e, impute);
-    j["gaps"] = GapsJson(e);
+    if (!e.gaps.empty()) j["gaps"] = GapsJson(e);
     j["ood"] = {{"score", ToString(model.manifest().ood_score)},
                 {"threshold", model.OodThreshold()},
                 {"clean_flagged", e.clean_flagged},

@@ -73,7 +73,7 @@ std::string HgvaeEvaluationText(const HgvaeEvaluation& e, const HgvaeModel& mode
   AppendLikelihood(&s, e.likelihood);
   if (!e.likelihood_only) {
     AppendImputation(&s, e, impute);
-    AppendGaps(&s, e);
+    if (!e.gaps.empty()) AppendGaps(&s, e);
     AppendOod(&s, e, model);
   }
   if (e.forecasting) {
