@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+#include <cstdio>
 #include <optional>
 #include <random>
 #include <stdexcept>

@@ -37,6 +37,9 @@ std::vector<double> SumOverWorkers(const BatchSync& sync,
                                    const std::vector<std::pair<torch::Tensor, double>>& parts,
                                    const std::vector<double>& extra) {
   std::vector<double> values;
+  size_t size = extra.size();
+  for (const auto& part : parts) size += static_cast<size_t>(part.first.numel());
+  values.reserve(size);
   for (const auto& [t, factor] : parts) {
     const float* p = t.data_ptr<float>();
     for (int64_t i = 0; i < t.numel(); ++i) values.push_back(factor * p[i]);
