@@ -18,6 +18,7 @@ FORBIDDEN = {
                             "motionfork_imputation_training", "motionfork_denoise_training"],
     # Model modules take options structs; reading YAML and bundles is the layers above.
     "motionfork_flow": ["motionfork_config", "motionfork_bundle"],
+    "motionfork_refine": ["motionfork_config", "motionfork_bundle", "motionfork_dataset"],
     "motionfork_imputation": ["motionfork_config", "motionfork_bundle"],
     "motionfork_denoise": ["motionfork_config", "motionfork_bundle"],
     "motionfork_generator_model": ["motionfork_config", "motionfork_bundle"],
@@ -27,7 +28,8 @@ FORBIDDEN = {
     "motionfork_dataset": ["motionfork_config"],
     "motionfork_eval": ["motionfork_config"],
     # The config layer includes no model.
-    "motionfork_config": ["motionfork_flow", "motionfork_imputation", "motionfork_denoise",
+    "motionfork_config": ["motionfork_flow", "motionfork_refine", "motionfork_imputation",
+                          "motionfork_denoise",
                           "motionfork_generator_model", "motionfork_generator_inference",
                           "motionfork_bundle"],
     # Inference does not depend on evaluation or training, and takes options structs (its bundles

@@ -86,6 +86,55 @@ void CheckSequences(const std::vector<std::vector<float>>& sequences, int joints
   }
 }
 
+// Refiner mode: every window of the refiner's length corrected by the refiner, blended.
+std::vector<std::vector<float>> RefineSequences(const DvaeManifest& manifest, DvaeNet& net,
+                                                const DvaeTensors& norm,
+                                                const std::vector<std::vector<float>>& sequences,
+                                                int threads, int* windows,
+                                                const std::function<void(double)>& progress) {
+  if (!net->refiner) {
+    throw std::invalid_argument(
+        "denoise: mode refiner needs a bundle with a refiner (motionfork dvae refine)");
+  }
+  const int J = DvaeValues(manifest) / 3, F = 3 * J;
+  std::vector<int> frames;
+  for (const auto& q : sequences) frames.push_back(static_cast<int>(q.size() / F));
+  std::vector<WindowCut> cuts =
+      CutWindows(frames, manifest.refiner.window, manifest.refiner.stride);
+  std::vector<std::vector<float>> values(cuts.size());
+  for (size_t w = 0; w < cuts.size(); ++w)
+    values[w] = WindowValues(sequences[cuts[w].sequence].data(), J, &cuts[w]);
+  std::map<int, std::vector<size_t>> groups;  // length -> windows
+  for (size_t w = 0; w < cuts.size(); ++w) groups[cuts[w].length].push_back(w);
+  std::vector<std::pair<const std::vector<size_t>*, size_t>> items;  // (group, first member)
+  for (const auto& [length, members] : groups) {
+    for (size_t c0 = 0; c0 < members.size(); c0 += kChunk) items.emplace_back(&members, c0);
+  }
+  std::mutex progress_lock;
+  size_t done = 0;
+  ParallelFor(static_cast<int>(items.size()), threads, [&](int item, int) {
+    const auto& [members, c0] = items[static_cast<size_t>(item)];
+    const size_t c1 = std::min(members->size(), c0 + static_cast<size_t>(kChunk));
+    const int64_t L = cuts[(*members)[c0]].length, B = static_cast<int64_t>(c1 - c0);
+    std::vector<float> batch;
+    for (size_t k = c0; k < c1; ++k)
+      batch.insert(batch.end(), values[(*members)[k]].begin(), values[(*members)[k]].end());
+    torch::NoGradGuard no_grad;
+    const torch::Tensor y = norm.Normalise(batch.data(), B, L);
+    const std::vector<float> metres = norm.Denormalise(y + net->refiner(y));
+    for (size_t k = c0; k < c1; ++k) {
+      const size_t off = (k - c0) * static_cast<size_t>(L) * F;
+      values[(*members)[k]].assign(metres.begin() + off,
+                                   metres.begin() + off + static_cast<size_t>(L) * F);
+    }
+    std::lock_guard<std::mutex> guard(progress_lock);
+    done += static_cast<size_t>(B);
+    if (progress) progress(static_cast<double>(done) / cuts.size());
+  });
+  *windows = static_cast<int>(cuts.size());
+  return BlendWindows(cuts, values, frames, J);
+}
+
 }  // namespace
 
 std::vector<std::vector<float>> DvaeModel::Denoise(
@@ -96,6 +145,18 @@ std::vector<std::vector<float>> DvaeModel::Denoise(
   const auto start = std::chrono::steady_clock::now();
   const int J = joints(), F = 3 * J;
   CheckSequences(sequences, J);
+  if (options.mode == DenoiseMode::kRefiner) {
+    int windows = 0;
+    std::vector<std::vector<float>> out = RefineSequences(
+        i.manifest, i.net, *i.norm, sequences, std::max(1, threads_), &windows, progress);
+    if (stats) {
+      stats->windows = windows;
+      stats->seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      stats->noise_std.clear();  // the refiner estimates no noise level
+    }
+    return out;
+  }
   std::vector<int> frames;
   for (const auto& q : sequences) frames.push_back(static_cast<int>(q.size() / F));
   std::vector<WindowCut> cuts = CutWindows(frames, window(), options.stride);

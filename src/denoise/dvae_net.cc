@@ -32,7 +32,8 @@ torch::Tensor DvaeMlpImpl::forward(const torch::Tensor& x) {
   return h.reshape(shape);
 }
 
-DvaeNetImpl::DvaeNetImpl(const DvaeOptions& o, int64_t values) : options_(o), values_(values) {
+DvaeNetImpl::DvaeNetImpl(const DvaeOptions& o, int64_t values, const RefinerOptions& refine)
+    : options_(o), values_(values) {
   const int64_t H = o.hidden, Z = o.latent, M = o.mlp_hidden, G = o.groups, F = values;
   d_ini = register_module("d_ini", DvaeMlp(F, M, H, G));
   d_x = register_module("d_x", DvaeMlp(H, M, F, G));
@@ -48,6 +49,7 @@ DvaeNetImpl::DvaeNetImpl(const DvaeOptions& o, int64_t values) : options_(o), va
   e_x0 = register_module("e_x0", DvaeMlp(H, M, 2 * F, G));
   e_b = register_module("e_b", DvaeMlp(H + 2 * F, M, 2 * F, G));
   x_logvar = register_parameter("x_logvar", torch::full({F}, -2.0));
+  if (refine.enabled()) refiner = register_module("refiner", TemporalRefiner(refine, F, F));
 }
 
 DvaePass DvaeNetImpl::Run(const torch::Tensor& seq, const torch::Tensor& x0, bool sample,
@@ -155,6 +157,6 @@ int DvaeValues(const DvaeManifest& m) {
   return 3 * static_cast<int>(m.skeleton.joint_names.size());
 }
 
-DvaeNet BuildDvaeNet(const DvaeManifest& m) { return DvaeNet(m.model, DvaeValues(m)); }
+DvaeNet BuildDvaeNet(const DvaeManifest& m) { return DvaeNet(m.model, DvaeValues(m), m.refiner); }
 
 }  // namespace motionfork

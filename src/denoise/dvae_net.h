@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "denoise/dvae_options.h"
+#include "refine/refiner_net.h"
 
 namespace motionfork {
 
@@ -50,7 +51,8 @@ struct DvaeNoise {
 
 class DvaeNetImpl : public torch::nn::Module {
  public:
-  DvaeNetImpl(const DvaeOptions& options, int64_t values);
+  // refiner: the denoising refiner's settings (channels 0: none).
+  DvaeNetImpl(const DvaeOptions& options, int64_t values, const RefinerOptions& refiner = {});
 
   // Encoder (from frames 1..T of seq) and decoder; x0 is the initial pose. sample: z from the
   // posterior with gen, else its means.
@@ -76,6 +78,9 @@ class DvaeNetImpl : public torch::nn::Module {
   const DvaeOptions& options() const { return options_; }
 
   torch::Tensor x_logvar;  // [F] log-variance of p(x_t | ...), normalised units
+  // The denoising refiner (null when the manifest has none): normalised noisy windows [B, T, F]
+  // -> their correction; trained apart from the rest (`dvae refine`).
+  TemporalRefiner refiner{nullptr};
 
  private:
   DvaeOptions options_;

@@ -13,6 +13,7 @@
 
 #include "core/enum_names.h"
 #include "core/skeleton.h"
+#include "refine/refiner_options.h"
 
 namespace motionfork {
 
@@ -68,10 +69,15 @@ struct DvaeNoisePrior {
   double scale = 0.05;
 };
 
-enum class DenoiseMode { kRegression, kOptimisation };
+// regression: one pass of the fine-tuned encoder; optimisation: Adam steps on the sequence's own
+// loss first; refiner: the bundle's temporal refiner (supervised, refine/refiner_net.h) corrects
+// the noisy motion itself.
+enum class DenoiseMode { kRegression, kOptimisation, kRefiner };
 // Their names in configs, bundles and flags (ParseDenoiseMode also takes "optimization").
 inline constexpr EnumName<DenoiseMode> kDenoiseModeNames[] = {
-    {DenoiseMode::kRegression, "regression"}, {DenoiseMode::kOptimisation, "optimisation"}};
+    {DenoiseMode::kRegression, "regression"},
+    {DenoiseMode::kOptimisation, "optimisation"},
+    {DenoiseMode::kRefiner, "refiner"}};
 const char* ToString(DenoiseMode mode);
 DenoiseMode ParseDenoiseMode(const std::string& text);  // "regression" | "optimisation"
 
@@ -98,6 +104,17 @@ struct DenoiseOverrides {
   DenoiseOptions Apply(DenoiseOptions o) const;
 };
 
+// Training the denoising refiner (`dvae refine`): clean training windows corrupted by one of
+// `noise` at a random level (each spec's sigma and rate are the upper ends: the level is a uniform
+// share of them), or left clean with probability clean_share; the refiner learns to give the clean
+// window back.
+struct DvaeRefinerConfig {
+  RefinerOptions model = {128};
+  RefinerTrainOptions training;
+  std::vector<std::string> noise = {"gaussian:0.12", "outliers:0.15,0.6", "jitter:0.12"};
+  double clean_share = 0.1;
+};
+
 struct DvaeTrainConfig {
   std::string path;
   std::string name;
@@ -107,6 +124,7 @@ struct DvaeTrainConfig {
   DvaeFinetuneOptions finetune;
   DvaeNoisePrior noise_prior;
   DenoiseOptions denoise;
+  DvaeRefinerConfig refiner;
 };
 
 constexpr const char* kDvaeBundleFormat = "motionfork-dvae-1";
@@ -123,6 +141,7 @@ struct DvaeManifest {
   DvaeNoisePrior noise_prior;
   bool finetuned = false;  // the encoder was fine-tuned on noisy data (regression mode)
   std::vector<std::string> finetune_noise;  // the corruptions it was fine-tuned on
+  RefinerOptions refiner;                   // the denoising refiner (channels 0: none)
   DenoiseOptions denoise;                   // defaults of `motionfork denoise`
   std::vector<std::pair<std::string, std::string>> info;
 };

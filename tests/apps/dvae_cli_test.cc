@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "api/tiny_bundle.h"
 #include "core/motion_noise.h"
@@ -108,4 +109,50 @@ TEST_CASE("predict --denoise: the history is denoised before forecasting and the
   const Prediction n = ReadPrediction(dir.file("n.json"));
   CHECK_FALSE(n.denoising.has_value());
   CHECK(n.positions != d.positions);
+}
+
+TEST_CASE("dvae train, finetune and refine chain on a data folder into a bundle that denoises") {
+  testing::TempDir dir;
+  const std::string data = dir.file("data"), config = dir.file("tiny.yaml");
+  fs::create_directories(data);
+  std::string split;
+  for (int c = 0; c < 4; ++c) {
+    const std::string clip = "walk_" + std::to_string(c) + ".bvh";
+    REQUIRE(Motionfork("synth walk --frames 90 --heading " + std::to_string(40 * c) + " -o " +
+                       data + "/" + clip)
+                .status == 0);
+    split += std::string(c < 3 ? "train\t" : "test\t") + clip + "\n";
+  }
+  std::ofstream(data + "/split.tsv") << split;
+  std::ofstream(config) << R"(name: tiny-dvae-cli
+protocol: bandai
+model: {window: 10, hidden: 16, latent: 4, mlp_hidden: 16, groups: 4}
+training: {epochs: 1, windows_per_epoch: 64, batch_size: 32, held_out_share: 0.3, held_out_windows: 8}
+finetune: {epochs: 1, windows_per_epoch: 64, batch_size: 32}
+refiner: {channels: 8, window: 20, stride: 5, dilations: [1, 2], linear_reach: 3, epochs: 2,
+          windows_per_epoch: 64, batch_size: 32}
+)";
+  const std::string common = " --config " + config + " --data " + data;
+  Run r = Motionfork("-q dvae train" + common + " --out " + dir.file("prior"));
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Contains("next: motionfork dvae finetune --prior " + dir.file("prior")));
+  r = Motionfork("-q dvae finetune" + common + " --prior " + dir.file("prior") + " --out " +
+                 dir.file("denoiser"));
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Contains("next: motionfork dvae refine"));
+  r = Motionfork("-q dvae refine" + common + " --prior " + dir.file("denoiser") + " --out " +
+                 dir.file("refined"));
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Contains("supervised refiner training") && Contains("trained epochs 1..2") &&
+                           Contains("denoise mode refiner"));
+  r = Motionfork("denoise --model " + dir.file("refined") + " " + data + "/walk_3.bvh -o " +
+                 dir.file("out.npy") + " --add-noise gaussian:0.05");
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Contains("refiner mode") && Contains("windows of <= 20 frames"));
+  CHECK(fs::exists(dir.file("out.npy")));
+  // Without --prior the stage cannot start, and says so.
+  r = Motionfork("-q dvae refine" + common + " --out " + dir.file("x"));
+  CHECK(r.status != 0);
+  CHECK_THAT(r.output, Contains("--prior"));
 }

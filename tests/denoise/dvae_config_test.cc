@@ -18,6 +18,8 @@ TEST_CASE("the shipped dvae_bandai config parses with the paper's latent size") 
   CHECK(c.model.latent == 48);
   CHECK(c.model.groups == 16);
   CHECK(c.finetune.noise.size() >= 3);
+  CHECK(c.refiner.model.enabled());
+  CHECK(c.refiner.model.reach() >= 15);
   const DvaeTrainConfig r =
       LoadDvaeTrainConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/dvae_reference.yaml");
   CHECK(r.model.hidden == 1024);
@@ -44,6 +46,18 @@ TEST_CASE(
   CHECK_THROWS_WITH(
       ParseDvaeTrainConfig("protocol: bandai\nnoise_prior:\n  scale: 0\n", "cfg.yaml"),
       Contains("scale > 0"));
+  CHECK_THROWS_WITH(ParseDvaeTrainConfig("protocol: bandai\nrefiner:\n  chanels: 3\n", "cfg.yaml"),
+                    Contains("cfg.yaml") && Contains("refiner.chanels"));
+  CHECK_THROWS_WITH(
+      ParseDvaeTrainConfig("protocol: bandai\nrefiner:\n  dilations: [1, 0]\n", "cfg.yaml"),
+      Contains("cfg.yaml") && Contains("dilations"));
+  CHECK_THROWS_WITH(
+      ParseDvaeTrainConfig("protocol: bandai\nrefiner:\n  clean_share: 1\n", "cfg.yaml"),
+      Contains("clean_share"));
+  // A config asking for refiner mode: the bundles trained before the refiner use regression mode.
+  const DvaeTrainConfig r =
+      ParseDvaeTrainConfig("protocol: bandai\ndenoise:\n  mode: refiner\n", "cfg.yaml");
+  CHECK(r.denoise.mode == DenoiseMode::kRefiner);
 }
 
 TEST_CASE("dvae manifests round-trip exactly") {
@@ -72,6 +86,18 @@ TEST_CASE("dvae manifests round-trip exactly") {
   CHECK(b.finetune_noise == m.finetune_noise);
   CHECK(b.denoise.mode == DenoiseMode::kOptimisation);
   CHECK_FALSE(b.denoise.fuse);
+  CHECK_FALSE(b.refiner.enabled());
+  CHECK(FormatDvaeManifest(b).find("refiner") == std::string::npos);  // older bundles: the same
+  m.refiner = {24, 40, 8, {1, 3}, 5};
+  m.denoise.mode = DenoiseMode::kRefiner;
+  { std::ofstream(path) << FormatDvaeManifest(m); }
+  const DvaeManifest c = LoadDvaeManifest(path);
+  CHECK(FormatDvaeManifest(c) == FormatDvaeManifest(m));
+  CHECK(c.refiner.dilations == std::vector<int>{1, 3});
+  CHECK(c.refiner.linear_reach == 5);
+  m.refiner = {};
+  { std::ofstream(path) << FormatDvaeManifest(m); }
+  CHECK_THROWS_WITH(LoadDvaeManifest(path), Contains("has no refiner"));
   { std::ofstream(path) << "format: motionfork-dvae-0\n"; }
   CHECK_THROWS_WITH(LoadDvaeManifest(path), Contains("dvae.yaml") && Contains("motionfork-dvae-1"));
 }

@@ -6,7 +6,7 @@
 
 namespace motionfork {
 
-TEST_CASE("evaluation text: a row shows '-' where optimisation mode did not run") {
+TEST_CASE("evaluation text: a row shows '-' where optimisation or refiner mode did not run") {
   DenoisingRow r;
   r.noise = "gaussian:0.02";
   r.noisy_cm = 3.5;
@@ -37,8 +37,14 @@ TEST_CASE("evaluation text: a row shows '-' where optimisation mode did not run"
   r.optimised_cm = 1.0;
   r.removed_optimised = 0.7143;
   r.accel_ratio_optimised = 1.1;
+  CHECK(DenoisingRowText(r).find("71.4%") != std::string::npos);
+  CHECK(DenoisingRowText(r).find(" - ") != std::string::npos);  // no refiner
+  r.refined_cm = 1.25;
+  r.removed_refined = 0.6429;
+  r.accel_ratio_refined = 0.95;
   const std::string full = DenoisingRowText(r);
-  CHECK(full.find("71.4%") != std::string::npos);
+  CHECK(full.find(" 1.25 ") != std::string::npos);
+  CHECK(full.find("64.3%") != std::string::npos);
   CHECK(full.find(" - ") == std::string::npos);
 }
 

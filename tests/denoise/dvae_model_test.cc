@@ -180,3 +180,43 @@ TEST_CASE("denoising refuses what it cannot use, naming it") {
   WriteFileAtomically(tmp.file("b") + "/dvae.pt", "garbage");
   CHECK_THROWS_AS(LoadDvaeModel(tmp.file("b")), FormatError);
 }
+
+TEST_CASE(
+    "the refiner learns to remove noise, travels in the bundle and denoises in refiner mode") {
+  testing::TempDir tmp;
+  DvaeTrainConfig cfg = testing::TinyDvaeConfig(1, 1);
+  cfg.refiner.model = {16, 20, 5, {1, 2}, 3};
+  cfg.refiner.training.epochs = 3;
+  cfg.refiner.training.windows_per_epoch = 256;
+  cfg.refiner.noise = {"gaussian:0.08"};
+  const DvaeData data = testing::TinyDvaeData();
+  const DvaeTrainSummary s = RefineDvae(cfg, TinyDir() + "/denoiser", data, tmp.file("r"), {});
+  CHECK(s.epochs_done == 3);
+  const std::vector<double> input = Column(tmp.file("r") + "/log.csv", "held_out_input_cm"),
+                            refined = Column(tmp.file("r") + "/log.csv", "held_out_refined_cm");
+  REQUIRE(refined.size() == 3);
+  CHECK(refined.back() < 0.8 * input.back());
+  DvaeModel model = LoadDvaeModel(tmp.file("r"));
+  CHECK(model.manifest().refiner.channels == 16);
+  CHECK(model.manifest().denoise.mode == DenoiseMode::kRefiner);
+  // The rest of the network is the bundle it started from: regression mode is unchanged.
+  const DvaeModel before = LoadDvaeModel(TinyDir() + "/denoiser");
+  const Motion clean = testing::MakeWalkingMotion(47, 30, 999);
+  const Motion noisy = AddNoise(clean, ParseNoiseSpec("gaussian:0.05"), 4);
+  DenoiseOptions reg = before.manifest().denoise;
+  CHECK(DenoiseMotion(model, noisy, reg).positions() ==
+        DenoiseMotion(before, noisy, reg).positions());
+  // Refiner mode: less error than the input, the same on several threads, any length.
+  const DenoiseOptions o = model.manifest().denoise;
+  DenoiseStats stats;
+  const Motion a = DenoiseMotion(model, noisy, o, &stats);
+  CHECK(stats.windows == 7);  // starts 0, 5, ..., 25 and the last at 27
+  CHECK(stats.noise_std.empty());
+  CHECK(MeanJointError(a.positions(), clean.positions()) <
+        0.7 * MeanJointError(noisy.positions(), clean.positions()));
+  model.set_threads(3);
+  CHECK(DenoiseMotion(model, noisy, o).positions() == a.positions());
+  CHECK(DenoiseMotion(model, noisy.Slice(0, 4), o).num_frames() == 4);
+  // A bundle without a refiner refuses the mode.
+  CHECK_THROWS_WITH(DenoiseMotion(before, noisy, o), Contains("dvae refine"));
+}

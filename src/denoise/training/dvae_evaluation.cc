@@ -133,10 +133,13 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
   reg.mode = DenoiseMode::kRegression;
   DenoiseOptions opt = reg;
   opt.mode = DenoiseMode::kOptimisation;
+  DenoiseOptions refined = reg;
+  refined.mode = DenoiseMode::kRefiner;
+  e.refiner = model.manifest().refiner.enabled();
   e.samples = reg.samples;
   e.iterations = opt.iterations;
   if (report) report(e);
-  double reg_seconds = 0, opt_seconds = 0;
+  double reg_seconds = 0, opt_seconds = 0, refine_seconds = 0;
   const Sequences opt_clean(clean.begin(), clean.begin() + e.optimisation_clips);
   for (size_t n = 0; n < o.noises.size(); ++n) {
     const Sequences noisy = Noisy(clean, o.noises[n], o.seed + 1000 * n, J);
@@ -163,6 +166,14 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
     row.accel_ratio_noisy = fn.accel / c;
     row.accel_ratio_denoised = fd.accel / c;
     row.accel_ratio_optimised = fo.accel / c;
+    if (e.refiner) {
+      DenoiseStats st_ref;
+      const Figures fr = Measure(model.Denoise(noisy, refined, &st_ref), clean, J, fps);
+      refine_seconds += st_ref.seconds;
+      row.refined_cm = 100 * fr.err;
+      row.removed_refined = 1 - fr.err / fn.err;
+      row.accel_ratio_refined = fr.accel / c;
+    }
     // Each filter tuned on the training clips under this noise kind (other draws), then applied
     // to the test clips' noisy motion.
     const Sequences tuning_noisy = Noisy(tuning, o.noises[n], o.seed + 500000 + 1000 * n, J);
@@ -180,7 +191,9 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
   }
   e.regression_frames_per_s = e.frames * o.noises.size() / reg_seconds;
   e.optimisation_frames_per_s = e.optimisation_frames * o.noises.size() / opt_seconds;
-  if (o.forecaster.forecast) e.forecasting = Forecasting(model, ds, test, o, reg);
+  if (e.refiner) e.refiner_frames_per_s = e.frames * o.noises.size() / refine_seconds;
+  if (o.forecaster.forecast)
+    e.forecasting = Forecasting(model, ds, test, o, e.refiner ? refined : reg);
   return e;
 }
 

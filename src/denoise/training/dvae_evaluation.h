@@ -1,11 +1,12 @@
 // The `motionfork dvae eval` experiment: a Motion-DVAE's denoising figures on its protocol's test
 // split — error of noisy, filtered (the classical baselines, each tuned on training clips),
-// denoised (regression mode) and optimised (optimisation mode) motion against the clean one for
-// each noise kind, acceleration against the clean motion's, speed and, given a forecaster, the
-// forecasting ADE/FDE from noisy and denoised histories. Part of the denoise training target: it
-// reads datasets.
+// denoised (regression mode), refined (refiner mode, where the bundle has a refiner) and optimised
+// (optimisation mode) motion against the clean one for each noise kind, acceleration against the
+// clean motion's, speed and, given a forecaster, the forecasting ADE/FDE from noisy and denoised
+// histories. Part of the denoise training target: it reads datasets.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -20,8 +21,9 @@
 namespace motionfork {
 
 struct DvaeEvalOptions {
-  std::vector<std::string> noises = {"gaussian:0.02",    "gaussian:0.05",     "gaussian:0.10",
-                                     "outliers:0.1,0.3", "outliers:0.05,0.5", "jitter:0.05"};
+  std::vector<std::string> noises = {"gaussian:0",        "gaussian:0.01", "gaussian:0.02",
+                                     "gaussian:0.05",     "gaussian:0.10", "outliers:0.1,0.3",
+                                     "outliers:0.05,0.5", "jitter:0.02",   "jitter:0.05"};
   int clips = 200;              // test clips used, spread evenly
   int optimisation_clips = 20;  // of those, how many optimisation mode runs on
   // Training clips (spread evenly) on which each filter's parameters are chosen for each noise
@@ -51,6 +53,8 @@ struct DenoisingRow {
   double noisy_cm = 0, denoised_cm = 0, removed = 0;
   double optimised_cm = 0, optimised_noisy_cm = 0, removed_optimised = 0;
   double accel_ratio_noisy = 0, accel_ratio_denoised = 0, accel_ratio_optimised = 0;
+  // Refiner mode (NaN when the bundle has no refiner).
+  double refined_cm = NAN, removed_refined = NAN, accel_ratio_refined = NAN;
   std::vector<FilterFigure> filters;  // Gaussian, Savitzky-Golay, one-euro
   // The filter of lowest test error (null when there is none).
   const FilterFigure* best_filter() const;
@@ -69,6 +73,8 @@ struct DvaeEvaluation {
   int iterations = 0;      // optimisation mode
   std::vector<DenoisingRow> settings;
   double regression_frames_per_s = 0, optimisation_frames_per_s = 0;
+  bool refiner = false;  // the bundle has one: refined figures and its speed
+  double refiner_frames_per_s = 0;
   std::optional<ForecastingFigures> forecasting;  // before: noisy, after: denoised histories
 };
 

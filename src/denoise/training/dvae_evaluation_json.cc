@@ -13,7 +13,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FilterFigure, filter, setting, tuning_cm, cm,
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DenoisingRow, noise, noisy_cm, denoised_cm, removed,
                                    optimised_cm, optimised_noisy_cm, removed_optimised,
                                    accel_ratio_noisy, accel_ratio_denoised, accel_ratio_optimised,
-                                   filters)
+                                   refined_cm, removed_refined, accel_ratio_refined, filters)
 
 nlohmann::ordered_json DvaeEvaluationJson(const DvaeEvaluation& e, const std::string& model_path) {
   using json = nlohmann::ordered_json;
@@ -22,6 +22,7 @@ nlohmann::ordered_json DvaeEvaluationJson(const DvaeEvaluation& e, const std::st
                           iterations, optimisation_clips, regression_frames_per_s);
   j["settings"] = json(nlohmann::json(e.settings));
   if (e.optimisation_clips > 0) j["optimisation_frames_per_s"] = e.optimisation_frames_per_s;
+  if (e.refiner) j["refiner_frames_per_s"] = e.refiner_frames_per_s;
   if (e.forecasting) {
     j["forecasting"] = ForecastingJson(*e.forecasting, "noise", "noisy", "denoised");
   }

@@ -29,10 +29,10 @@ std::string DvaeEvaluationHeaderText(const DvaeEvaluation& e, const DvaeModel& m
       e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations,
       e.tuning_clips, WithThousands(e.tuning_frames).c_str());
   StringAppendf(&s,
-                "\n%-18s %7s %8s %8s %8s %8s %8s %9s %8s   accel / clean: noisy  best filter  "
-                "denoised  optimised\n",
+                "\n%-18s %7s %8s %8s %8s %8s %8s %8s %8s %9s %8s   accel / clean: noisy  best "
+                "filter  denoised  refined  optimised\n",
                 "noise (cm error)", "noisy", "gaussian", "sav-gol", "one-euro", "denoised",
-                "removed", "optimised", "removed");
+                "removed", "refined", "removed", "optimised", "removed");
   return s;
 }
 
@@ -42,11 +42,13 @@ std::string DenoisingRowText(const DenoisingRow& r) {
   };
   const FilterFigure* best = r.best_filter();
   std::string s = StringPrintf(
-      "%-18s %7.2f %8s %8s %8s %8.2f %8s %9s %8s   %19.2f %12s %9.2f %10s\n", r.noise.c_str(),
-      r.noisy_cm, filter(0).c_str(), filter(1).c_str(), filter(2).c_str(), r.denoised_cm,
-      Number(100 * r.removed, "%.1f%%").c_str(), Number(r.optimised_cm, "%.2f").c_str(),
-      Number(100 * r.removed_optimised, "%.1f%%").c_str(), r.accel_ratio_noisy,
-      best ? StringPrintf("%.2f", best->accel_ratio).c_str() : "-", r.accel_ratio_denoised,
+      "%-18s %7.2f %8s %8s %8s %8.2f %8s %8s %8s %9s %8s   %19.2f %12s %9.2f %8s %10s\n",
+      r.noise.c_str(), r.noisy_cm, filter(0).c_str(), filter(1).c_str(), filter(2).c_str(),
+      r.denoised_cm, Number(100 * r.removed, "%.1f%%").c_str(),
+      Number(r.refined_cm, "%.2f").c_str(), Number(100 * r.removed_refined, "%.1f%%").c_str(),
+      Number(r.optimised_cm, "%.2f").c_str(), Number(100 * r.removed_optimised, "%.1f%%").c_str(),
+      r.accel_ratio_noisy, best ? StringPrintf("%.2f", best->accel_ratio).c_str() : "-",
+      r.accel_ratio_denoised, Number(r.accel_ratio_refined, "%.2f").c_str(),
       Number(r.accel_ratio_optimised, "%.2f").c_str());
   for (const FilterFigure& f : r.filters) {
     StringAppendf(&s, "%-18s   %s: %s, %.2f cm on the tuning clips\n", "", f.filter.c_str(),
@@ -61,6 +63,7 @@ std::string DvaeEvaluationFooterText(const DvaeEvaluation& e, int threads) {
       "first %d clips,\n"
       "against their own noisy error)\nspeed on %d thread(s): regression %.0f frames/s",
       e.optimisation_clips, threads, e.regression_frames_per_s);
+  if (e.refiner) StringAppendf(&s, ", refiner %.0f frames/s", e.refiner_frames_per_s);
   if (e.optimisation_clips > 0) {
     StringAppendf(&s, ", optimisation %.0f frames/s (%d iterations per sequence)",
                   e.optimisation_frames_per_s, e.iterations);

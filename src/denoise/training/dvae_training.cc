@@ -102,40 +102,102 @@ void ComputeNormalisation(const DvaeData& data, int window, DvaeManifest* m) {
   }
 }
 
-// Step `it` of `iterations`: its five loss terms (the loss first, which must be finite: `what`
+// Step `it` of `iterations`: its N loss terms (the loss first, which must be finite: `what`
 // names the run in the error) added to the epoch's sums, the mean loss so far to cb.step.
-void AddStep(const std::array<torch::Tensor, 5>& terms, const char* what, int epoch, int it,
-             int iterations, const DvaeTrainCallbacks& cb, double (&sums)[5]) {
-  double v[5];
-  for (int k = 0; k < 5; ++k) v[k] = terms[k].item<double>();
+template <size_t N>
+void AddStep(const std::array<torch::Tensor, N>& terms, const char* what, int epoch, int it,
+             int iterations, const DvaeTrainCallbacks& cb, double (&sums)[N]) {
+  double v[N];
+  for (size_t k = 0; k < N; ++k) v[k] = terms[k].template item<double>();
   RequireFiniteLoss(v[0], what, epoch);
-  for (int k = 0; k < 5; ++k) sums[k] += v[k];
+  for (size_t k = 0; k < N; ++k) sums[k] += v[k];
   if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
 }
 
 // The epoch's sums over every worker's share (each weighted by its share of the batch).
-void SumOverWorkers(DataParallel& workers, double weight, double (&sums)[5]) {
-  std::vector<double> totals(sums, sums + 5);
+template <size_t N>
+void SumOverWorkers(DataParallel& workers, double weight, double (&sums)[N]) {
+  std::vector<double> totals(sums, sums + N);
   for (double& v : totals) v *= weight;
   workers.SumValues(&totals);
   std::copy(totals.begin(), totals.end(), sums);
 }
 
 // An epoch's log, appended to `file` (OUT/log.csv) when `write`: the means over the epoch's
-// `iterations` steps of their five terms (`names`), then the held-out figures.
+// `iterations` steps of their N terms (`names`), then the held-out figures.
+template <size_t N>
 DvaeEpochLog LogEpoch(const fs::path& file, bool write, int epoch, double kl_weight, double seconds,
-                      const std::array<const char*, 5>& names, const double (&sums)[5],
+                      const std::array<const char*, N>& names, const double (&sums)[N],
                       int iterations,
                       std::initializer_list<std::pair<std::string, double>> held_out) {
   DvaeEpochLog log;
   log.epoch = epoch;
   log.kl_weight = kl_weight;
   log.seconds = seconds;
-  for (int k = 0; k < 5; ++k) log.terms.emplace_back(names[k], sums[k] / iterations);
+  for (size_t k = 0; k < N; ++k) log.terms.emplace_back(names[k], sums[k] / iterations);
   log.terms.insert(log.terms.end(), held_out.begin(), held_out.end());
   if (write) AppendEpochLog(file, "kl_weight", log.epoch, log.kl_weight, log.seconds, log.terms);
   return log;
 }
+
+std::vector<NoiseSpec> ParseNoiseSpecs(const std::vector<std::string>& texts) {
+  std::vector<NoiseSpec> kinds;
+  for (const std::string& s : texts) kinds.push_back(ParseNoiseSpec(s));
+  return kinds;
+}
+
+// The early-stopping run of fine-tuning and refiner training: its checkpoint keeps, besides the
+// weights and Adam, the best held-out figure so far and the epochs since it improved.
+class BestEpochRun {
+ public:
+  BestEpochRun(const fs::path& out, const char* state_name, const char* info_key)
+      : out_(out), ckpt_(out / "checkpoint"), state_(ckpt_ / state_name), info_key_(info_key) {}
+
+  // Rank 0 resumes; every worker takes its state. Returns the epochs done.
+  int Resume(DataParallel& workers, DvaeNet& net, torch::optim::Adam& adam,
+             const DvaeTrainCallbacks& cb) {
+    std::vector<double> resumed = {0, INFINITY, 0};  // epochs done, best, bad epochs
+    if (workers.writes()) {
+      resumed[0] = ResumeTraining(ckpt_, "dvae.pt", *net, adam, out_ / "log.csv", cb.message);
+      if (resumed[0] > 0) {
+        std::ifstream in(state_);
+        in >> resumed[1] >> resumed[2];
+      }
+    }
+    workers.BroadcastTrainingState(*net, adam, &resumed);
+    best_ = resumed[1];
+    bad_epochs_ = static_cast<int>(resumed[2]);
+    return static_cast<int>(resumed[0]);
+  }
+
+  bool Stalled(int patience) const { return bad_epochs_ >= patience; }
+
+  // After epoch `epoch`: the bundle when `figure` (lower is better) improved, then the checkpoint.
+  void EndEpoch(DataParallel& workers, int epoch, double figure, DvaeManifest* m, DvaeNet& net,
+                torch::optim::Adam& adam) {
+    if (figure < best_) {
+      best_ = figure;
+      bad_epochs_ = 0;
+      SetManifestInfo(&m->info, info_key_, std::to_string(epoch + 1));
+      if (workers.writes()) SaveDvaeBundle(out_.string(), *m, net);
+    } else {
+      ++bad_epochs_;
+    }
+    std::ostringstream st;
+    st.precision(17);
+    st << best_ << " " << bad_epochs_ << "\n";
+    if (workers.writes()) {
+      SaveCheckpoint(ckpt_.string(), "dvae.pt", *net, adam, epoch + 1,
+                     {{state_.filename().string(), st.str()}});
+    }
+  }
+
+ private:
+  fs::path out_, ckpt_, state_;
+  const char* info_key_;
+  double best_ = INFINITY;
+  int bad_epochs_ = 0;
+};
 
 }  // namespace
 
@@ -245,29 +307,19 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   m.finetune_noise = t.noise;
   m.noise_prior = config.noise_prior;
   m.denoise = config.denoise;
+  if (m.denoise.mode == DenoiseMode::kRefiner)
+    m.denoise.mode = DenoiseMode::kRegression;  // none yet
   SetManifestInfo(&m.info, "finetune_config", config.name);
   const DvaeTensors norm(m);
   for (torch::Tensor& p : net->DecoderParameters()) p.set_requires_grad(false);
   const std::vector<torch::Tensor> trained = net->EncoderParameters();
   torch::optim::Adam adam(trained, torch::optim::AdamOptions(t.learning_rate));
-  std::vector<NoiseSpec> kinds;
-  for (const std::string& s : t.noise) kinds.push_back(ParseNoiseSpec(s));
+  const std::vector<NoiseSpec> kinds = ParseNoiseSpecs(t.noise);
 
-  const fs::path out(out_dir), ckpt = out / "checkpoint", state = ckpt / "finetune_best.txt";
+  const fs::path out(out_dir);
+  BestEpochRun run(out, "finetune_best.txt", "finetune_epoch");
   DvaeTrainSummary summary;
-  // Rank 0 resumes; every worker takes its state (weights, Adam, the early-stopping record).
-  std::vector<double> resumed = {0, INFINITY, 0};  // epochs done, best held-out loss, bad epochs
-  if (workers.writes()) {
-    resumed[0] = ResumeTraining(ckpt, "dvae.pt", *net, adam, out / "log.csv", cb.message);
-    if (resumed[0] > 0) {
-      std::ifstream in(state);
-      in >> resumed[1] >> resumed[2];
-    }
-  }
-  workers.BroadcastTrainingState(*net, adam, &resumed);
-  summary.first_epoch = static_cast<int>(resumed[0]);
-  double best = resumed[1];
-  int bad_epochs = static_cast<int>(resumed[2]);
+  summary.first_epoch = run.Resume(workers, net, adam, cb);
   // Held-out noisy windows, the same every epoch: each window gets every noise kind in turn.
   const WindowBatch clean = HeldOutBatch(data, W, 1000);
   WindowBatch noisy = clean;
@@ -286,7 +338,7 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
   const auto start = std::chrono::steady_clock::now();
   for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
     if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
-    if (bad_epochs >= t.patience) {
+    if (run.Stalled(t.patience)) {
       summary.stopped_early = true;
       break;
     }
@@ -344,21 +396,153 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
                  {{"held_out_loss", held_loss},
                   {"held_out_noisy_cm", err_noisy},
                   {"held_out_denoised_cm", err_denoised}});
-    if (held_loss < best) {
-      best = held_loss;
-      bad_epochs = 0;
-      SetManifestInfo(&m.info, "finetune_epoch", std::to_string(epoch + 1));
-      if (workers.writes()) SaveDvaeBundle(out_dir, m, net);
-    } else {
-      ++bad_epochs;
+    run.EndEpoch(workers, epoch, held_loss, &m, net, adam);
+    summary.epochs_done = epoch + 1;
+    if (cb.epoch) cb.epoch(log);
+  }
+  summary.seconds = SecondsSince(start);
+  return summary;
+}
+
+namespace {
+
+// A clean window and its corrupted copy in the corrupted window's frame (both minus the corrupted
+// window's mean root position, as the refiner sees them in use).
+void AddWindowPair(const float* clean, const std::vector<float>& noisy, int joints, int length,
+                   WindowBatch* input, WindowBatch* target) {
+  WindowCut cut{0, 0, length, {}};
+  const std::vector<float> v = WindowValues(noisy.data(), joints, &cut);
+  input->values.insert(input->values.end(), v.begin(), v.end());
+  ++input->count;
+  const size_t n = static_cast<size_t>(length) * joints * 3;
+  for (size_t k = 0; k < n; ++k) target->values.push_back(clean[k] - cut.root_mean[k % 3]);
+  ++target->count;
+}
+
+// One of the specs at a uniform share of its level (sigma, and the rate of outliers).
+NoiseSpec RandomLevel(const std::vector<NoiseSpec>& kinds, std::mt19937_64& rng) {
+  NoiseSpec spec = kinds[rng() % kinds.size()];
+  std::uniform_real_distribution<double> share(0.0, 1.0);
+  spec.sigma *= share(rng);
+  if (spec.kind == NoiseSpec::Kind::kOutliers) spec.rate *= share(rng);
+  return spec;
+}
+
+// Mean distance per joint, cm, between normalised windows a and b [B, T, F].
+torch::Tensor JointErrorCm(const torch::Tensor& a, const torch::Tensor& b, const DvaeTensors& norm,
+                           int joints) {
+  const torch::Tensor d = ((a - b) * norm.std()).reshape({a.size(0), a.size(1), joints, 3});
+  return (d.pow(2).sum(-1) + 1e-12).sqrt().mean() * 100;
+}
+
+}  // namespace
+
+DvaeTrainSummary RefineDvae(const DvaeTrainConfig& config, const std::string& dvae_dir,
+                            const DvaeData& data, const std::string& out_dir,
+                            const DvaeTrainCallbacks& cb, int stop_after_epochs) {
+  const DvaeRefinerConfig& rc = config.refiner;
+  const RefinerTrainOptions& t = rc.training;
+  DataParallel& workers = TrainingWorkers();
+  PinThreads(workers.ThreadsPerWorker(t.threads));
+  torch::manual_seed(t.seed);
+  DvaeManifest m;
+  const DvaeNet from = LoadDvaeBundle(dvae_dir, &m);
+  const int W = rc.model.window, J = data.joints, F = 3 * J;
+  if (DvaeValues(m) != F)
+    throw std::invalid_argument(dvae_dir + ": the bundle's skeleton does not match the data's");
+  m.refiner = rc.model;
+  m.denoise.mode = DenoiseMode::kRefiner;
+  SetManifestInfo(&m.info, "refiner_config", config.name);
+  DvaeNet net = BuildDvaeNet(m);
+  {
+    torch::NoGradGuard no_grad;
+    const auto src = from->named_parameters(), src_buffers = from->named_buffers();
+    for (auto& p : net->named_parameters())
+      if (src.contains(p.key())) p.value().copy_(src[p.key()]);
+    for (auto& b : net->named_buffers())
+      if (src_buffers.contains(b.key())) b.value().copy_(src_buffers[b.key()]);
+  }
+  const DvaeTensors norm(m);
+  const std::vector<torch::Tensor> trained = net->refiner->parameters();
+  torch::optim::Adam adam(trained, torch::optim::AdamOptions(t.learning_rate));
+  const std::vector<NoiseSpec> kinds = ParseNoiseSpecs(rc.noise);
+
+  const fs::path out(out_dir);
+  BestEpochRun run(out, "refiner_best.txt", "refiner_epoch");
+  DvaeTrainSummary summary;
+  summary.first_epoch = run.Resume(workers, net, adam, cb);
+  // Held-out windows, the same every epoch: in turn Gaussian 2, 5 and 10 cm, outliers (10% of
+  // joints, 30 cm), jitter 5 cm and clean (the evaluation's kinds).
+  const WindowBatch held = HeldOutBatch(data, W, 1200);
+  if (held.count == 0) {
+    throw std::invalid_argument("refiner: no held-out clip has " + std::to_string(W) +
+                                " frames (refiner.window)");
+  }
+  WindowBatch held_in, held_target;
+  {
+    const std::vector<NoiseSpec> held_kinds = ParseNoiseSpecs(
+        {"gaussian:0.02", "gaussian:0.05", "gaussian:0.10", "outliers:0.1,0.3", "jitter:0.05"});
+    std::mt19937_64 rng(t.seed + 99);
+    std::vector<float> noisy;
+    for (int64_t w = 0; w < held.count; ++w) {
+      const float* clean = held.values.data() + w * W * F;
+      noisy.assign(clean, clean + static_cast<size_t>(W) * F);
+      if (w % 6 < 5) AddNoise(held_kinds[w % 6], noisy.data(), W, J, rng);
+      AddWindowPair(clean, noisy, J, W, &held_in, &held_target);
     }
-    std::ostringstream st;
-    st.precision(17);
-    st << best << " " << bad_epochs << "\n";
-    if (workers.writes()) {
-      SaveCheckpoint(ckpt.string(), "dvae.pt", *net, adam, epoch + 1,
-                     {{state.filename().string(), st.str()}});
+  }
+  const std::vector<int> frames = ClipFrames(data.train, F);
+  const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
+  workers.RequireBatch(B, "refiner.batch_size");
+  const Share share = workers.BatchShare(B);
+  const int Bs = static_cast<int>(share.size());
+  const double weight = static_cast<double>(Bs) / B;
+  const auto start = std::chrono::steady_clock::now();
+  for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
+    if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
+    if (run.Stalled(t.patience)) {
+      summary.stopped_early = true;
+      break;
     }
+    const auto epoch_start = std::chrono::steady_clock::now();
+    SetLearningRate(adam, t.learning_rate * std::pow(t.lr_decay, epoch));
+    net->train();
+    RandomWindowSampler sampler(frames, W, t.seed * 1000003ull + epoch);
+    std::mt19937_64 rng(t.seed * 7919ull + epoch);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    double sums[2] = {0, 0};
+    std::vector<float> noisy;
+    for (int it = 0; it < iterations; ++it) {
+      WindowBatch input, target;
+      for (int b = 0; b < B; ++b) {  // every window's noise drawn, this worker's share kept
+        const Window w = sampler.Next();
+        const float* clean = data.train[w.clip].data() + static_cast<size_t>(w.start) * F;
+        noisy.assign(clean, clean + static_cast<size_t>(W) * F);
+        if (unit(rng) >= rc.clean_share) AddNoise(RandomLevel(kinds, rng), noisy.data(), W, J, rng);
+        if (b >= share.begin && b < share.end) AddWindowPair(clean, noisy, J, W, &input, &target);
+      }
+      const torch::Tensor y = norm.Normalise(input.values.data(), Bs, W);
+      const torch::Tensor x = norm.Normalise(target.values.data(), Bs, W);
+      const torch::Tensor loss = JointErrorCm(y + net->refiner(y), x, norm, J);
+      DataParallelStep(workers, adam, loss, trained, weight, t.grad_clip);
+      AddStep<2>({loss, JointErrorCm(y, x, norm, J).detach()}, "Motion-DVAE refiner training",
+                 epoch, it, iterations, cb, sums);
+    }
+    SumOverWorkers(workers, weight, sums);
+    net->eval();
+    double held_cm = 0, held_input_cm = 0;
+    {
+      torch::NoGradGuard no_grad;
+      const torch::Tensor y = norm.Normalise(held_in.values.data(), held_in.count, W);
+      const torch::Tensor x = norm.Normalise(held_target.values.data(), held_target.count, W);
+      held_cm = JointErrorCm(y + net->refiner(y), x, norm, J).item<double>();
+      held_input_cm = JointErrorCm(y, x, norm, J).item<double>();
+    }
+    const DvaeEpochLog log =
+        LogEpoch<2>(out / "log.csv", workers.writes(), epoch, 0.0, SecondsSince(epoch_start),
+                    {"loss_cm", "input_cm"}, sums, iterations,
+                    {{"held_out_input_cm", held_input_cm}, {"held_out_refined_cm", held_cm}});
+    run.EndEpoch(workers, epoch, held_cm, &m, net, adam);
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }

@@ -1,5 +1,6 @@
 // Motion-DVAE training (no LibTorch in this header):
 // - TrainDvae: the motion prior on clean windows (ELBO with KL annealing, bone-length term).
+// - RefineDvae: the supervised denoising refiner (refine/refiner_net.h) of a bundle.
 // - FinetuneDvae: unsupervised denoising training ("regression mode"): windows of the training
 //   split corrupted by the config's noise kinds; only the encoder, the initial-state predictor
 //   and the noise predictor learn; no clean target enters the loss (clean windows are used only
@@ -58,5 +59,13 @@ DvaeTrainSummary TrainDvae(const DvaeTrainConfig& config, const DvaeManifest& ba
 DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& prior_dir,
                               const DvaeData& data, const std::string& out_dir,
                               const DvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
+
+// dvae_dir: a fine-tuned (or any) Motion-DVAE bundle. Trains the config's `refiner` (supervised:
+// clean training windows corrupted at random levels, the clean window the target) and writes OUT:
+// the same bundle with the refiner (denoise.mode refiner) at the epoch with the lowest held-out
+// error, log.csv and checkpoint/ (running again resumes).
+DvaeTrainSummary RefineDvae(const DvaeTrainConfig& config, const std::string& dvae_dir,
+                            const DvaeData& data, const std::string& out_dir,
+                            const DvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
 
 }  // namespace motionfork

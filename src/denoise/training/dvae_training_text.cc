@@ -1,0 +1,44 @@
+#include "denoise/training/dvae_training_text.h"
+
+#include "core/text_format.h"
+
+namespace motionfork {
+
+std::string DvaeTrainingStartText(DvaeStage stage, const DvaeTrainConfig& config,
+                                  const DvaeData& data) {
+  std::string s = StringPrintf(
+      "Motion-DVAE: windows of %d frames x %d joints; %zu training clips (%s frames), %zu held "
+      "out\n",
+      stage == DvaeStage::kRefiner ? config.refiner.model.window : config.model.window, data.joints,
+      data.train.size(), WithThousands(data.train_frames()).c_str(), data.held_out.size());
+  if (stage == DvaeStage::kPrior) return s;
+  const bool finetune = stage == DvaeStage::kFinetune;
+  s += finetune ? "unsupervised denoising training on noisy windows:"
+                : "supervised refiner training on clean windows corrupted at random levels up to:";
+  for (const std::string& n : finetune ? config.finetune.noise : config.refiner.noise) s += " " + n;
+  return s + (finetune ? " (the encoder, initial-state and noise predictors learn; decoder and "
+                         "prior stay fixed)\n"
+                       : StringPrintf(" (%.0f%% left clean; only the refiner learns)\n",
+                                      100 * config.refiner.clean_share));
+}
+
+std::string DvaeTrainingDoneText(DvaeStage stage, const DvaeTrainSummary& s,
+                                 const std::string& out) {
+  static const char* const kWhat[] = {
+      "motion prior bundle: %s (dvae.yaml, dvae.pt)",
+      "denoiser bundle: %s (the epoch with the lowest held-out loss)",
+      "bundle with its refiner: %s (denoise mode refiner; the epoch with the lowest held-out "
+      "error)"};
+  static const char* const kNext[] = {
+      "next: motionfork dvae finetune --prior %s --data DIR --out DIR\n",
+      "next: motionfork dvae refine --prior %s --data DIR --out DIR\n", ""};
+  const int k = static_cast<int>(stage);
+  return StringPrintf(
+             "trained epochs %d..%d in %s%s; ", s.first_epoch + 1, s.epochs_done,
+             Duration(s.seconds).c_str(),
+             s.stopped_early ? " (stopped early: the held-out figure stopped improving)" : "") +
+         StringPrintf(kWhat[k], out.c_str()) + StringPrintf(", log: %s/log.csv\n", out.c_str()) +
+         StringPrintf(kNext[k], out.c_str());
+}
+
+}  // namespace motionfork
