@@ -77,6 +77,21 @@ class EpochBars {
 // Prints a library's message as a line on stdout.
 void PrintMessage(const std::string& message);
 
+// A training run's callbacks (step(epoch, fraction, loss), epoch(log), message) reporting on bars.
+template <typename Callbacks>
+Callbacks LossEpochReports(EpochBars* bars) {
+  Callbacks cb;
+  cb.step = [bars](int epoch, double fraction, double loss) {
+    bars->Update(epoch, fraction, "loss " + std::to_string(loss));
+  };
+  cb.epoch = [bars](const auto& log) {  // the KL weight where one anneals
+    bars->PrintEpoch(log.epoch, log.seconds, log.terms, 5,
+                     log.kl_weight > 0 ? std::optional<double>(log.kl_weight) : std::nullopt);
+  };
+  cb.message = PrintMessage;
+  return cb;
+}
+
 // Prints a library's text report (core/text_format.h: WithThousands, Duration) as it is.
 void PrintText(const std::string& text);
 // "motionfork: warning: MESSAGE" on stderr (over any progress bar).

@@ -20,20 +20,6 @@ struct DvaeTrainCmd {
   TrainingRunFlags run;
 };
 
-DvaeTrainCallbacks EpochReports(EpochBars* bars) {
-  DvaeTrainCallbacks cb;
-  cb.step = [bars](int epoch, double fraction, double loss) {
-    char detail[64];
-    std::snprintf(detail, sizeof(detail), "loss %.5g", loss);
-    bars->Update(epoch, fraction, detail);
-  };
-  cb.epoch = [bars](const DvaeEpochLog& log) {
-    bars->PrintEpoch(log.epoch, log.seconds, log.terms, 5, log.kl_weight);
-  };
-  cb.message = PrintMessage;
-  return cb;
-}
-
 void RunStage(DvaeStage stage, const DvaeTrainCmd& o, GlobalOptions& g) {
   const TrainingRunFlags& run = o.run;
   if (LaunchIfRequested(run.launch, g)) return;
@@ -48,7 +34,7 @@ void RunStage(DvaeStage stage, const DvaeTrainCmd& o, GlobalOptions& g) {
       MakeDvaeData(ds, c.training.held_out_share, c.training.seed, c.model.window);
   PrintText(DvaeTrainingStartText(stage, c, data));
   EpochBars bars(epochs, !g.quiet);
-  const DvaeTrainCallbacks cb = EpochReports(&bars);
+  const auto cb = LossEpochReports<DvaeTrainCallbacks>(&bars);
   const DvaeTrainSummary s =
       stage == DvaeStage::kPrior
           ? TrainDvae(c, DvaeTrainingManifest(c, ds.protocol, *ds.skeleton.skeleton), data, run.out,

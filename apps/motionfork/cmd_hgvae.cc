@@ -15,6 +15,7 @@ namespace {
 
 struct HgvaeTrainCmd {
   std::string config = "hgvae_bandai";
+  std::string prior;  // hgvae refine: the bundle to add the refiner to
   TrainingRunFlags run;
 };
 
@@ -53,6 +54,21 @@ void RunHgvaeTrain(const HgvaeTrainCmd& o, GlobalOptions& g) {
   PrintText(HgvaeTrainingDoneText(s, cfg, run.out));
 }
 
+void RunHgvaeRefine(const HgvaeTrainCmd& o, GlobalOptions& g) {
+  const TrainingRunFlags& run = o.run;
+  if (LaunchIfRequested(run.launch, g)) return;
+  HgvaeTrainConfig cfg =
+      LoadHgvaeTrainConfig(ResolveConfigPath(ConfigDir(g.config_dir), "models", o.config));
+  if (run.epochs > 0) cfg.refiner.training.epochs = run.epochs;
+  const Dataset ds = LoadProtocolDataset(cfg.protocol, run.data, run.split_file, g);
+  const HgvaeData data = MakeHgvaeData(ds, cfg.training, cfg.refiner.model.window);
+  PrintText(HgvaeDataText(data, cfg.refiner.model.window));
+  EpochBars bars(cfg.refiner.training.epochs, !g.quiet);
+  const HgvaeTrainSummary s = RefineHgvae(
+      cfg, o.prior, data, run.out, LossEpochReports<HgvaeRefineCallbacks>(&bars), run.stop_after);
+  PrintText(HgvaeRefineDoneText(s, run.out));
+}
+
 }  // namespace
 
 void AddHgvaeCommand(CLI::App& app, GlobalOptions& global) {
@@ -62,14 +78,24 @@ void AddHgvaeCommand(CLI::App& app, GlobalOptions& global) {
       "values, out-of-distribution scores, sampling). See also 'motionfork impute' and 'motionfork "
       "ood'.");
   hg->require_subcommand(1);
-  const auto [train, t] = AddSubcommand<HgvaeTrainCmd>(
-      hg, global, RunHgvaeTrain, "train",
+  const char* kTrain =
       R"(Train an HG-VAE (configs/models/NAME.yaml) on a protocol's training split. Every epoch writes
 the bundle (OUT/hgvae.yaml, OUT/hgvae.pt), a row of OUT/log.csv and a checkpoint; running the
-same command again resumes where it stopped.)");
-  train->add_option("--config", t->config,
+same command again resumes where it stopped.)";
+  const char* kRefine =
+      R"(Train the imputation refiner of an HG-VAE bundle (the config's 'refiner'): a temporal
+convolution network learns, on clean training windows with random masks (values at random, gaps
+of a joint, a limb or a body part), to correct their spline, linear and rigid-limb fills. OUT: the
+bundle with its refiner (impute start 'refiner'). Early stopping; resumable.)";
+  for (const bool refining : {false, true}) {
+    const auto [cmd, t] =
+        AddSubcommand<HgvaeTrainCmd>(hg, global, refining ? RunHgvaeRefine : RunHgvaeTrain,
+                                     refining ? "refine" : "train", refining ? kRefine : kTrain);
+    cmd->add_option("--config", t->config,
                     "Config name (configs/models/) or YAML path (default hgvae_bandai)");
-  AddTrainingRunOptions(train, &t->run, "Output folder (bundle, log, checkpoint)");
+    AddTrainingRunOptions(cmd, &t->run, "Output folder (bundle, log, checkpoint)");
+    if (refining) cmd->add_option("--prior", t->prior, "HG-VAE bundle")->required();
+  }
   AddHgvaeSampleCommand(*hg, global);
   AddHgvaeEvalCommand(*hg, global);
 }

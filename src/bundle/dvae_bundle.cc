@@ -7,6 +7,7 @@
 
 #include "bundle/manifest.h"
 #include "bundle/protocol_manifest.h"
+#include "bundle/refiner_yaml.h"
 #include "bundle/torch_bundle.h"
 #include "bundle/train_config_keys.h"
 #include "config/skeleton_yaml.h"
@@ -85,30 +86,6 @@ void EmitDenoise(YAML::Emitter& out, const DenoiseOptions& o) {
                      "samples", o.samples, "stride", o.stride, "seed", o.seed);
 }
 
-// A refiner's settings (its keys in both manifests and configs).
-const std::set<std::string> kRefinerModelKeys = {"channels", "window", "stride", "dilations",
-                                                  "linear_reach"};
-
-void ParseRefinerModel(const std::string& file, const YAML::Node& n, RefinerOptions* o) {
-  o->channels = GetOr<int>(file, n, "channels", o->channels);
-  o->window = GetOr<int>(file, n, "window", o->window);
-  o->stride = GetOr<int>(file, n, "stride", o->stride);
-  o->dilations = GetOr<std::vector<int>>(file, n, "dilations", o->dilations);
-  o->linear_reach = GetOr<int>(file, n, "linear_reach", o->linear_reach);
-  try {
-    ValidateRefinerOptions(*o, "refiner");
-  } catch (const std::invalid_argument& e) {
-    Fail(file, n, e.what());
-  }
-}
-
-void EmitRefinerModel(YAML::Emitter& out, const RefinerOptions& o) {
-  out << YAML::Key << "refiner" << YAML::Value << YAML::BeginMap;
-  yaml_util::EmitPairs(out, "channels", o.channels, "window", o.window, "stride", o.stride,
-                       "linear_reach", o.linear_reach);
-  out << YAML::Key << "dilations" << YAML::Value << YAML::Flow << o.dilations << YAML::EndMap;
-}
-
 std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Node& n) {
   std::vector<std::string> out = yaml_util::StringList(file, n, "noise");
   for (const std::string& s : out) {
@@ -122,32 +99,17 @@ std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Nod
 }
 
 void ParseRefinerConfig(const std::string& file, const YAML::Node& n, DvaeRefinerConfig* c) {
-  std::set<std::string> keys = kRefinerModelKeys;
-  keys.insert({"epochs", "windows_per_epoch", "batch_size", "learning_rate", "lr_decay",
-               "grad_clip", "patience", "seed", "threads", "noise", "clean_share"});
+  std::set<std::string> keys = RefinerModelKeys();
+  keys.insert(RefinerTrainKeys().begin(), RefinerTrainKeys().end());
+  keys.insert({"noise", "clean_share"});
   CheckKeys(file, n, "refiner", keys);
   ParseRefinerModel(file, n, &c->model);
-  RefinerTrainOptions& t = c->training;
-  t.epochs = GetOr<int>(file, n, "epochs", t.epochs);
-  t.windows_per_epoch = GetOr<int>(file, n, "windows_per_epoch", t.windows_per_epoch);
-  t.batch_size = GetOr<int>(file, n, "batch_size", t.batch_size);
-  t.learning_rate = GetOr<double>(file, n, "learning_rate", t.learning_rate);
-  t.lr_decay = GetOr<double>(file, n, "lr_decay", t.lr_decay);
-  t.grad_clip = GetOr<double>(file, n, "grad_clip", t.grad_clip);
-  t.patience = GetOr<int>(file, n, "patience", t.patience);
-  t.seed = GetOr<uint64_t>(file, n, "seed", t.seed);
-  t.threads = GetOr<int>(file, n, "threads", t.threads);
+  ParseRefinerTraining(file, n, &c->training);
   if (n["noise"]) c->noise = ParseNoiseList(file, n["noise"]);
   c->clean_share = GetOr<double>(file, n, "clean_share", c->clean_share);
-  if (!c->model.enabled() || t.epochs < 1 || t.batch_size < 1 ||
-      t.windows_per_epoch < t.batch_size || !(t.learning_rate > 0) ||
-      !(t.lr_decay > 0 && t.lr_decay <= 1) || t.patience < 1 || t.threads < 1 || c->noise.empty() ||
-      !(c->clean_share >= 0 && c->clean_share < 1)) {
+  if (!c->model.enabled() || c->noise.empty() || !(c->clean_share >= 0 && c->clean_share < 1))
     Fail(file, n,
-         "refiner: expected channels >= 1, epochs >= 1, batch_size >= 1, windows_per_epoch >= "
-         "batch_size, learning_rate > 0, 0 < lr_decay <= 1, patience >= 1, threads >= 1, at least "
-         "one noise spec and 0 <= clean_share < 1");
-  }
+         "refiner: expected channels >= 1, at least one noise spec and 0 <= clean_share < 1");
 }
 
 DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
@@ -226,11 +188,7 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
     m.finetuned = GetOr<bool>(path, root, "finetuned", false);
     if (root["finetune_noise"]) m.finetune_noise = ParseNoiseList(path, root["finetune_noise"]);
     ParseDenoise(path, Section(path, root, "denoise", false), &m.denoise);
-    if (root["refiner"]) {
-      const YAML::Node r = Section(path, root, "refiner", true);
-      CheckKeys(path, r, "refiner", kRefinerModelKeys);
-      ParseRefinerModel(path, r, &m.refiner);
-    }
+    ParseManifestRefiner(path, root, &m.refiner);
     if (m.denoise.mode == DenoiseMode::kRefiner && !m.refiner.enabled())
       Fail(path, root, "denoise.mode is refiner, but the bundle has no refiner");
     m.info = ParseManifestInfo(root);
@@ -247,7 +205,7 @@ std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& che
         out << YAML::Key << "finetuned" << YAML::Value << m.finetuned;
         out << YAML::Key << "finetune_noise" << YAML::Value << YAML::Flow << m.finetune_noise;
         EmitDenoise(out, m.denoise);
-        if (m.refiner.enabled()) EmitRefinerModel(out, m.refiner);  // older bundles: none
+        EmitManifestRefiner(out, m.refiner);
       });
 }
 

@@ -1,11 +1,13 @@
 #include "bundle/hgvae_bundle.h"
 
 #include <filesystem>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "bundle/manifest.h"
 #include "bundle/protocol_manifest.h"
+#include "bundle/refiner_yaml.h"
 #include "bundle/torch_bundle.h"
 #include "bundle/train_config_keys.h"
 #include "config/skeleton_yaml.h"
@@ -106,7 +108,8 @@ void EmitOod(YAML::Emitter& out, const HgvaeManifest& m) {
 
 HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {
   return WithFormatErrors(file, [&] {
-    CheckKeys(file, root, "", {"name", "protocol", "model", "training", "impute", "ood"});
+    CheckKeys(file, root, "",
+              {"name", "protocol", "model", "training", "impute", "ood", "refiner"});
     HgvaeTrainConfig c;
     ReadTrainConfigHeader(file, root, &c);
     ParseModel(file, Section(file, root, "model", false), &c.model);
@@ -139,6 +142,13 @@ HgvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root)
     c.ood_k = GetOr<double>(file, ood, "k", c.ood_k);
     c.ood_score =
         ParseImputeObjective(GetOr<std::string>(file, ood, "score", ToString(c.ood_score)));
+    const YAML::Node r = Section(file, root, "refiner", false);
+    std::set<std::string> keys = RefinerModelKeys();
+    keys.insert(RefinerTrainKeys().begin(), RefinerTrainKeys().end());
+    CheckKeys(file, r, "refiner", keys);
+    ParseRefinerModel(file, r, &c.refiner.model);
+    ParseRefinerTraining(file, r, &c.refiner.training);
+    if (!c.refiner.model.enabled()) Fail(file, r, "refiner: expected channels >= 1");
     return c;
   });
 }
@@ -171,6 +181,9 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checks
     // Bundles written before the key existed hold the paper's posterior score.
     m.ood_score = ParseImputeObjective(GetOr<std::string>(path, ood, "score", "posterior"));
     ParseImpute(path, Section(path, root, "impute", false), &m.impute);
+    ParseManifestRefiner(path, root, &m.refiner);
+    if (m.impute.start == ImputeStart::kRefiner && !m.refiner.enabled())
+      Fail(path, root, "impute.start is refiner, but the bundle has no refiner");
     m.info = ParseManifestInfo(root);
     return m;
   });
@@ -184,6 +197,7 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
                           EmitManifestNormalisation(out, m.mean, m.std);
                           EmitOod(out, m);
                           EmitImpute(out, m.impute);
+                          EmitManifestRefiner(out, m.refiner);
                         });
 }
 
@@ -231,6 +245,7 @@ HgvaeManifest HgvaeTrainingManifest(const HgvaeTrainConfig& config, const Protoc
   m.ood_k = config.ood_k;
   m.ood_score = config.ood_score;
   m.impute = config.impute;
+  if (m.impute.start == ImputeStart::kRefiner) m.impute.start = ImputeStart::kMean;  // none yet
   return m;
 }
 

@@ -102,7 +102,8 @@ std::vector<uint8_t> GapMask(const GapSetting& setting, int frames, int joints, 
 const std::vector<FillMethod>& AllFillMethods() {
   static const std::vector<FillMethod> all = {
       FillMethod::kMean,      FillMethod::kLinear, FillMethod::kCubicSpline,
-      FillMethod::kRigidLimb, FillMethod::kHgvae,  FillMethod::kHgvaeFromSpline};
+      FillMethod::kRigidLimb, FillMethod::kHgvae,  FillMethod::kHgvaeFromSpline,
+      FillMethod::kRefiner};
   return all;
 }
 
@@ -120,6 +121,8 @@ std::string FillMethodName(FillMethod method) {
       return "hg-vae";
     case FillMethod::kHgvaeFromSpline:
       return "hg-vae+spline";
+    case FillMethod::kRefiner:
+      return "refiner";
   }
   return "?";
 }
@@ -148,11 +151,17 @@ std::vector<float> FillMotion(FillMethod method, const HgvaeModel& model, const 
     case FillMethod::kRigidLimb:
       return RigidLimbFill(motion.skeleton(), p, missing, TrainingMeanPose(model));
     case FillMethod::kHgvae:
-      return ImputeMotion(model, motion, missing, options).motion.positions();
-    case FillMethod::kHgvaeFromSpline: {
-      ImputeOptions from_spline = options;
-      from_spline.start = ImputeStart::kSpline;
-      return ImputeMotion(model, motion, missing, from_spline).motion.positions();
+    case FillMethod::kHgvaeFromSpline:
+    case FillMethod::kRefiner: {
+      ImputeOptions o = options;  // the HG-VAE's steps from the mean or the spline; the refiner
+      o.start = method == FillMethod::kHgvae             ? ImputeStart::kMean
+                : method == FillMethod::kHgvaeFromSpline ? ImputeStart::kSpline
+                                                         : ImputeStart::kRefiner;
+      if (method == FillMethod::kRefiner)
+        o.steps = 0;  // alone
+      else if (o.steps == 0)
+        o.steps = ImputeOptions{}.steps;
+      return ImputeMotion(model, motion, missing, o).motion.positions();
     }
   }
   throw std::invalid_argument("FillMotion: unknown method");
@@ -167,7 +176,9 @@ int GapFigure::best_baseline() const {
   int best = -1;
   for (size_t m = 0; m < rms_cm.size() && m < AllFillMethods().size(); ++m) {
     const FillMethod method = AllFillMethods()[m];
-    if (method == FillMethod::kHgvae || method == FillMethod::kHgvaeFromSpline) continue;
+    if (method == FillMethod::kHgvae || method == FillMethod::kHgvaeFromSpline ||
+        method == FillMethod::kRefiner)
+      continue;
     if (best < 0 || rms_cm[m] < rms_cm[best]) best = static_cast<int>(m);
   }
   return best;
@@ -192,6 +203,10 @@ std::vector<GapFigure> GapExperiment(const HgvaeModel& model, const std::vector<
       ++f.motions;
       f.missing_values += count;
       for (size_t m = 0; m < methods.size(); ++m) {
+        if (methods[m] == FillMethod::kRefiner && !model.has_refiner()) {
+          squares[m] = NAN;
+          continue;
+        }
         const std::vector<float> filled = FillMotion(methods[m], model, motion, mask, options);
         for (size_t i = 0; i < mask.size(); ++i) {
           if (!mask[i]) continue;

@@ -35,16 +35,25 @@ std::vector<GapSetting> StandardGapSettings(const Skeleton& skeleton, double fps
 std::vector<uint8_t> GapMask(const GapSetting& setting, int frames, int joints, uint64_t seed);
 
 // The fills compared, in table order.
-enum class FillMethod { kMean, kLinear, kCubicSpline, kRigidLimb, kHgvae, kHgvaeFromSpline };
+enum class FillMethod {
+  kMean,
+  kLinear,
+  kCubicSpline,
+  kRigidLimb,
+  kHgvae,
+  kHgvaeFromSpline,
+  kRefiner
+};
 const std::vector<FillMethod>& AllFillMethods();
-// "mean", "linear", "spline", "rigid limb", "hg-vae", "hg-vae+spline"
+// "mean", "linear", "spline", "rigid limb", "hg-vae", "hg-vae+spline", "refiner"
 std::string FillMethodName(FillMethod method);
 
 // One method's fill of motion's missing values (observed ones unchanged). Mean: the HG-VAE's
 // training mean pose about the frame's root; linear / spline: InterpolateMissing, rigid limb:
 // RigidLimbFill (interpolation_fill.h), both falling back on the mean pose where a value is never
 // observed; hg-vae: ImputeMotion (motion_imputation.h) with `options`, hg-vae+spline: the same
-// starting from the spline (ImputeStart::kSpline).
+// starting from the spline (ImputeStart::kSpline), both with options' steps (the default 10 where
+// they are 0); refiner: the bundle's refiner alone (ImputeStart::kRefiner, no steps).
 std::vector<float> FillMotion(FillMethod method, const HgvaeModel& model, const Motion& motion,
                               const std::vector<uint8_t>& missing, const ImputeOptions& options);
 
@@ -52,7 +61,8 @@ struct GapFigure {
   GapSetting setting;
   int motions = 0;  // clips the setting could be applied to
   int64_t missing_values = 0;
-  std::vector<double> rms_cm;  // per AllFillMethods(), over every missing value
+  std::vector<double> rms_cm;  // per AllFillMethods(), over every missing value (NaN: the refiner
+                               // of a bundle without one)
   // The lowest RMS among the classical methods (not the HG-VAE's), and its index.
   double best_baseline_cm() const;
   int best_baseline() const;

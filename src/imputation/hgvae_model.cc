@@ -8,6 +8,7 @@
 #include "core/parallel_for.h"
 #include "imputation/hgvae_net.h"
 #include "imputation/hgvae_tensors.h"
+#include "refine/refiner_windows.h"
 #include "torch_util/parameters.h"
 
 namespace motionfork {
@@ -279,6 +280,26 @@ std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed,
     out.insert(out.end(), w.begin(), w.end());
   }
   return out;
+}
+
+bool HgvaeModel::has_refiner() const { return static_cast<bool>(impl_->net->refiner); }
+
+std::vector<float> HgvaeModel::Refine(const RefinerFills& f) const {
+  const Impl& im = *impl_;
+  if (!has_refiner()) {
+    throw std::invalid_argument(
+        "impute: start 'refiner' needs a bundle with a refiner (motionfork hgvae refine)");
+  }
+  torch::NoGradGuard no_grad;
+  const int64_t T = f.frames;
+  const torch::Tensor in = im.tensors->RefinerInput(f.spline.data(), f.linear.data(),
+                                                    f.rigid.data(), f.mask.data(), 1, T)[0];
+  const RefinerOptions& r = im.manifest.refiner;
+  const torch::Tensor corrected =
+      in.slice(1, 0, im.N()) + RefineInWindows(im.net->refiner, in, r.window, r.stride);
+  const torch::Tensor metres =
+      im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
+  return std::vector<float>(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());
 }
 
 }  // namespace motionfork

@@ -15,6 +15,7 @@
 
 #include "core/skeleton.h"
 #include "imputation/hgvae_options.h"
+#include "imputation/refiner_fills.h"
 
 namespace motionfork {
 
@@ -71,6 +72,12 @@ class HgvaeModel {
   ImputeResult Impute(const std::vector<float>& windows, const std::vector<uint8_t>& missing,
                       const ImputeOptions& options, int class_index = -1,
                       const std::vector<float>* start = nullptr) const;
+  // The imputation refiner's fill of a whole motion (root-relative [T, N], metres; every value,
+  // observed ones included): the spline's values corrected by the refiner, in windows of its
+  // length blended. Throws std::invalid_argument when the bundle has no refiner.
+  std::vector<float> Refine(const RefinerFills& fills) const;
+  bool has_refiner() const;
+
   // Mean imputation (the baseline): missing values -> training mean.
   std::vector<float> MeanImpute(const std::vector<float>& windows,
                                 const std::vector<uint8_t>& missing) const;

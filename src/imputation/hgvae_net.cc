@@ -64,7 +64,7 @@ torch::Tensor HgvaeBlockImpl::forward(const torch::Tensor& x) {
 }
 
 HgvaeNetImpl::HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int64_t frames,
-                           int64_t classes)
+                           int64_t classes, const RefinerOptions& refine)
     : options_(options), num_coords_(num_coords), frames_(frames), classes_(classes) {
   const int64_t L = num_levels(), W = options.width;
   auto nodes = [&](int64_t l) -> int64_t { return options_.levels[l].nodes; };
@@ -120,6 +120,10 @@ HgvaeNetImpl::HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int6
       HgvaeGraphConv(num_coords, num_coords, W, options.predicted_variance ? 2 * frames : frames));
   if (!options.predicted_variance)
     out_logvar = register_parameter("out_logvar", torch::zeros({num_coords, 1, frames}));
+  if (refine.enabled()) {
+    refiner = register_module("refiner",
+                              TemporalRefiner(refine, kRefinerChannels * num_coords, num_coords));
+  }
 }
 
 bool HgvaeNetImpl::stochastic(int64_t level) const {
@@ -240,7 +244,8 @@ int HgvaeCoords(const HgvaeManifest& m) {
 }
 
 HgvaeNet BuildHgvaeNet(const HgvaeManifest& m) {
-  return HgvaeNet(m.model, HgvaeCoords(m), m.model.window, static_cast<int64_t>(m.classes.size()));
+  return HgvaeNet(m.model, HgvaeCoords(m), m.model.window, static_cast<int64_t>(m.classes.size()),
+                  m.refiner);
 }
 
 }  // namespace motionfork

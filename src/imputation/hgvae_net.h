@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "imputation/hgvae_options.h"
+#include "refine/refiner_net.h"
 
 namespace motionfork {
 
@@ -64,7 +65,15 @@ class HgvaeNetImpl : public torch::nn::Module {
  public:
   // num_coords: nodes of the full graph; frames: window length; classes: one-hot size (0 = none).
   // options.levels must be resolved (no 0 nodes).
-  HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int64_t frames, int64_t classes);
+  // refiner: the imputation refiner's settings (channels 0: none).
+  HgvaeNetImpl(const HgvaeOptions& options, int64_t num_coords, int64_t frames, int64_t classes,
+               const RefinerOptions& refiner = {});
+
+  // The imputation refiner (null when the manifest has none): normalised fills [B, T,
+  // kRefinerChannels * N] (spline, linear, rigid limb, mask) -> the spline's correction [B, T, N];
+  // trained apart from the rest (`hgvae refine`).
+  static constexpr int64_t kRefinerChannels = 4;
+  TemporalRefiner refiner{nullptr};
 
   // x: normalised windows, node-major [N, B, T]; labels: one-hot [B, classes] or undefined (all
   // zero = no class). gen: for kSample.

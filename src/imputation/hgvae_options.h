@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "refine/refiner_options.h"
 
 namespace motionfork {
 
@@ -64,15 +65,18 @@ ImputeObjective ParseImputeObjective(const std::string& text);  // "posterior" |
 
 // Where the missing values of a whole motion start before the Adam steps (ImputeMotion).
 enum class ImputeStart {
-  kMean,    // the training mean pose (the paper's)
-  kLinear,  // linear interpolation in time from the observed frames (interpolation_fill.h)
-  kSpline,  // natural cubic-spline interpolation in time
+  kMean,     // the training mean pose (the paper's)
+  kLinear,   // linear interpolation in time from the observed frames (interpolation_fill.h)
+  kSpline,   // natural cubic-spline interpolation in time
+  kRefiner,  // the bundle's refiner over the spline, linear and rigid-limb fills (refine/)
 };
 inline constexpr EnumName<ImputeStart> kImputeStartNames[] = {{ImputeStart::kMean, "mean"},
                                                               {ImputeStart::kLinear, "linear"},
-                                                              {ImputeStart::kSpline, "spline"}};
+                                                              {ImputeStart::kSpline, "spline"},
+                                                              {ImputeStart::kRefiner, "refiner"}};
 const char* ToString(ImputeStart start);
-ImputeStart ParseImputeStart(const std::string& text);  // "mean" | "linear" | "spline"
+// "mean" | "linear" | "spline" | "refiner"
+ImputeStart ParseImputeStart(const std::string& text);
 
 struct ImputeOptions {
   int steps = 10;              // Adam steps on the missing values (paper: 10, or 100)
@@ -91,6 +95,14 @@ struct ImputeOverrides {
   ImputeOptions Apply(ImputeOptions o) const;
 };
 
+// Training the imputation refiner (`hgvae refine`): clean training windows with random masks
+// (random values, gaps of one joint, a limb or a body part, up to the whole window), their spline,
+// linear and rigid-limb fills in, the clean window the target at the missing values.
+struct HgvaeRefinerConfig {
+  RefinerOptions model = {96, 96, 24, {1, 2, 4, 8, 16, 1, 2, 4, 8, 16}, 7, false};
+  RefinerTrainOptions training = {20, 6400, 32, 1e-3, 0.93, 10, 6, 5, 1};
+};
+
 struct HgvaeTrainConfig {
   std::string path;
   std::string name;
@@ -102,6 +114,7 @@ struct HgvaeTrainConfig {
   // The out-of-distribution score: kJoint (posterior score + log p(x | posterior means)) by
   // default; kPosterior is the paper's, which on Bandai ranks mean-filled windows as more typical.
   ImputeObjective ood_score = ImputeObjective::kJoint;
+  HgvaeRefinerConfig refiner;
 };
 
 }  // namespace motionfork
@@ -124,7 +137,8 @@ struct HgvaeManifest {
   ImputeObjective ood_score = ImputeObjective::kPosterior;  // what score_mean/std describe
   double score_mean = 0, score_std = 0;  // that score on held-out training windows
   double ood_k = 2.0;
-  ImputeOptions impute;                                   // defaults for `motionfork impute`
+  ImputeOptions impute;    // defaults for `motionfork impute`
+  RefinerOptions refiner;  // the imputation refiner (channels 0: none; refine/refiner_options.h)
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

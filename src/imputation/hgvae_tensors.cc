@@ -30,4 +30,27 @@ torch::Tensor HgvaeTensors::SquaredErrorMetres(const torch::Tensor& a,
   return ((a - b) * std_).pow(2);
 }
 
+torch::Tensor HgvaeTensors::NormaliseFrameMajor(const float* values, int64_t count,
+                                                int64_t frames) const {
+  const torch::Tensor v =
+      torch::from_blob(const_cast<float*>(values), {count, frames, coords_}, torch::kFloat32);
+  return (v - mean_.view({1, 1, coords_})) / std_.view({1, 1, coords_});
+}
+
+torch::Tensor HgvaeTensors::DenormaliseFrameMajor(const torch::Tensor& x) const {
+  return x * std_.view({1, 1, coords_}) + mean_.view({1, 1, coords_});
+}
+
+torch::Tensor HgvaeTensors::RefinerInput(const float* spline, const float* linear,
+                                         const float* rigid, const uint8_t* mask, int64_t count,
+                                         int64_t frames) const {
+  const torch::Tensor m =
+      torch::from_blob(const_cast<uint8_t*>(mask), {count, frames, coords_}, torch::kUInt8)
+          .to(torch::kFloat32);
+  return torch::cat(
+      {NormaliseFrameMajor(spline, count, frames), NormaliseFrameMajor(linear, count, frames),
+       NormaliseFrameMajor(rigid, count, frames), m},
+      2);
+}
+
 }  // namespace motionfork

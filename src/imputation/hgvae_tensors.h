@@ -22,6 +22,14 @@ class HgvaeTensors {
   // Per value squared error in metres^2, [N, B, T].
   torch::Tensor SquaredErrorMetres(const torch::Tensor& a, const torch::Tensor& b) const;
 
+  // The imputation refiner's input [B, T, 4N] from fills laid out [B, T, N] each (metres) and the
+  // mask: spline, linear, rigid limb normalised, then the mask as 0 / 1.
+  torch::Tensor RefinerInput(const float* spline, const float* linear, const float* rigid,
+                             const uint8_t* mask, int64_t count, int64_t frames) const;
+  // [B, T, N] normalised <-> metres, frame-major.
+  torch::Tensor NormaliseFrameMajor(const float* values, int64_t count, int64_t frames) const;
+  torch::Tensor DenormaliseFrameMajor(const torch::Tensor& x) const;
+
   int64_t frames() const { return frames_; }
   int64_t coords() const { return coords_; }
 

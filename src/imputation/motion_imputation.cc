@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "imputation/interpolation_fill.h"
+#include "imputation/refiner_fills.h"
 
 namespace motionfork {
 
@@ -93,7 +94,11 @@ MotionImputation ImputeMotion(const HgvaeModel& model, const Motion& motion,
     starts.push_back(s);
   }
   std::vector<float> start;  // the start's root-relative poses (empty: the mean)
-  if (options.start != ImputeStart::kMean) {
+  if (options.start == ImputeStart::kRefiner) {
+    start = Gather(
+        model.Refine(MakeRefinerFills(model.skeleton(), p, missing, TrainingMeanPose(model))),
+        starts, W, N);
+  } else if (options.start != ImputeStart::kMean) {
     const std::vector<float> fill =
         InterpolateMissing(p, missing, J,
                            options.start == ImputeStart::kLinear ? Interpolation::kLinear

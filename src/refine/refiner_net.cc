@@ -33,13 +33,14 @@ TemporalRefinerImpl::TemporalRefinerImpl(const RefinerOptions& o, int64_t in, in
   torch::NoGradGuard no_grad;
   output->weight.zero_();
   output->bias.zero_();
-  // The linear path starts as a Gaussian smoother of sigma R / 4 frames (its correction: the
-  // smoothed motion minus the motion), the classical filter the refiner is to beat.
+  // The linear path starts as a Gaussian smoother of sigma R / 4 frames (or at zero) (its
+  // correction: the smoothed motion minus the motion), the classical filter the refiner is to beat.
   const torch::Tensor k = torch::arange(-R, R + 1, torch::kFloat32);
   torch::Tensor taps = torch::exp(-0.5 * (k * 4.0 / std::max<int64_t>(R, 1)).pow(2));
   taps = taps / taps.sum();
   taps.index_put_({R}, taps.index({R}) - 1.0);
   linear->weight.copy_(taps.expand({out, 1, 2 * R + 1}));
+  if (!o.smooth_start) linear->weight.zero_();
   linear->bias.zero_();
 }
 

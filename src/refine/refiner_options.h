@@ -14,6 +14,9 @@ struct RefinerOptions {
   int stride = 16;   // windows start every `stride` frames
   std::vector<int> dilations = {1, 2, 4, 8, 1, 2, 4, 8};  // one residual block each (kernel 3)
   int linear_reach = 7;  // the linear path's frames on each side (refine/refiner_net.h)
+  // The linear path starts as a Gaussian smoother (denoising) or at zero (imputation: the
+  // interpolation it corrects is right where the gaps are short).
+  bool smooth_start = true;
   bool enabled() const { return channels > 0; }
   // Frames on each side that reach an output frame: the larger of linear_reach and
   // 1 (input conv) + sum(dilations).

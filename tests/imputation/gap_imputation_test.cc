@@ -106,6 +106,11 @@ TEST_CASE(
   const std::vector<uint8_t> mask = GapMask(settings[0], 60, 17, 3);
   for (FillMethod m : AllFillMethods()) {
     INFO(FillMethodName(m));
+    if (m == FillMethod::kRefiner) {  // this bundle has none
+      CHECK_THROWS_WITH(FillMotion(m, model, motions[0], mask, ImputeOptions{}),
+                        Catch::Contains("hgvae refine"));
+      continue;
+    }
     const std::vector<float> f = FillMotion(m, model, motions[0], mask, ImputeOptions{});
     REQUIRE(f.size() == mask.size());
     for (size_t i = 0; i < f.size(); ++i) {
@@ -125,7 +130,8 @@ TEST_CASE(
     INFO(settings[s].name);
     CHECK(figures[s].motions == 2);
     REQUIRE(figures[s].rms_cm.size() == AllFillMethods().size());
-    for (double v : figures[s].rms_cm) CHECK(std::isfinite(v));
+    for (FillMethod m : AllFillMethods())
+      CHECK(std::isfinite(figures[s].rms_cm[static_cast<int>(m)]) == (m != FillMethod::kRefiner));
     CHECK(figures[s].best_baseline() < static_cast<int>(FillMethod::kHgvae));
   }
   CHECK(figures[1].missing_values == 2 * 3);
@@ -138,7 +144,8 @@ TEST_CASE(
   CHECK(std::isnan(figures[3].rms_cm[0]));
   // The same seed, the same figures.
   const std::vector<GapFigure> again = GapExperiment(model, motions, settings, ImputeOptions{}, 9);
-  CHECK(again[0].rms_cm == figures[0].rms_cm);
+  for (size_t m = 0; m < static_cast<size_t>(FillMethod::kRefiner); ++m)  // the refiner: NaN
+    CHECK(again[0].rms_cm[m] == figures[0].rms_cm[m]);
 }
 
 TEST_CASE("imputation from an interpolation: with no Adam step, the interpolation itself") {
@@ -168,4 +175,43 @@ TEST_CASE("imputation from an interpolation: with no Adam step, the interpolatio
     return size_t{0};
   }();
   CHECK(mean[at] == Approx(m.positions()[at - at % 51 + at % 3] + pose[at % 51]).margin(1e-5));
+}
+
+TEST_CASE(
+    "the imputation refiner: trained from a bundle, it fills every gap, observed values kept") {
+  testing::TempDir dir;
+  HgvaeTrainConfig cfg = testing::TinyHgvaeConfig(8, 1);
+  cfg.refiner.model = {8, 20, 5, {1, 2}, 3, false};
+  cfg.refiner.training.epochs = 3;
+  cfg.refiner.training.windows_per_epoch = 128;
+  cfg.refiner.training.batch_size = 16;
+  const HgvaeData data = testing::TinyHgvaeData(12, 60);
+  testing::WriteTinyHgvaeBundle(dir.file("m"), 8, 2);
+  const HgvaeTrainSummary s = RefineHgvae(cfg, dir.file("m"), data, dir.file("r"), {});
+  CHECK(s.epochs_done == 3);
+  const HgvaeModel model = LoadHgvaeModel(dir.file("r"));
+  REQUIRE(model.has_refiner());
+  CHECK(model.manifest().impute.start == ImputeStart::kRefiner);
+  CHECK(model.manifest().impute.steps == 0);
+  CHECK_FALSE(model.manifest().refiner.smooth_start);
+  const Motion motion = testing::MakeWalkingMotion(50, 30, 7);
+  for (const GapSetting& setting :
+       std::vector<GapSetting>{{"random 30%", 0.3, {}, 0},
+                               {"arm gap", 0, {11, 12, 13}, 12},
+                               {"arm, whole clip", 0, {11, 12, 13}, 0}}) {
+    INFO(setting.name);
+    const std::vector<uint8_t> mask = GapMask(setting, 50, 17, 5);
+    const std::vector<float> filled =
+        ImputeMotion(model, motion, mask, model.manifest().impute).motion.positions();
+    CHECK(FillMotion(FillMethod::kRefiner, model, motion, mask, ImputeOptions{}) == filled);
+    for (size_t i = 0; i < mask.size(); ++i) {
+      REQUIRE(std::isfinite(filled[i]));
+      if (!mask[i]) CHECK(filled[i] == motion.positions()[i]);
+    }
+  }
+  const std::vector<GapFigure> figures =
+      GapExperiment(model, {motion}, {{"arm gap", 0, {11, 12, 13}, 12}}, ImputeOptions{}, 1);
+  CHECK(std::isfinite(figures[0].rms_cm[static_cast<int>(FillMethod::kRefiner)]));
+  // Resuming a finished run trains nothing more and keeps the bundle.
+  CHECK(RefineHgvae(cfg, dir.file("m"), data, dir.file("r"), {}).epochs_done == 0);
 }

@@ -20,6 +20,7 @@
 #include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/data_parallel.h"
+#include "torch_util/parameters.h"
 #include "torch_util/threads.h"
 #include "torch_util/training_loop.h"
 
@@ -454,14 +455,7 @@ DvaeTrainSummary RefineDvae(const DvaeTrainConfig& config, const std::string& dv
   m.denoise.mode = DenoiseMode::kRefiner;
   SetManifestInfo(&m.info, "refiner_config", config.name);
   DvaeNet net = BuildDvaeNet(m);
-  {
-    torch::NoGradGuard no_grad;
-    const auto src = from->named_parameters(), src_buffers = from->named_buffers();
-    for (auto& p : net->named_parameters())
-      if (src.contains(p.key())) p.value().copy_(src[p.key()]);
-    for (auto& b : net->named_buffers())
-      if (src_buffers.contains(b.key())) b.value().copy_(src_buffers[b.key()]);
-  }
+  CopyTensorsByName(*from, *net);
   const DvaeTensors norm(m);
   const std::vector<torch::Tensor> trained = net->refiner->parameters();
   torch::optim::Adam adam(trained, torch::optim::AdamOptions(t.learning_rate));

@@ -1,5 +1,7 @@
 #include "imputation/training/hgvae_evaluation_text.h"
 
+#include <cmath>
+
 #include "core/text_format.h"
 #include "eval/history_forecasting_text.h"
 
@@ -32,16 +34,23 @@ void AppendImputation(std::string* s, const HgvaeEvaluation& e, const ImputeOpti
 }
 
 void AppendGaps(std::string* s, const HgvaeEvaluation& e) {
-  StringAppendf(s,
-                "\nimputation over %d whole test clips: RMS error of the filled values, cm (mean: "
-                "the training mean pose;\nlinear, spline: in time; rigid limb: bone lengths kept)"
-                "\n  %-26s %7s",
-                e.gap_clips, "missing", "clips");
+  StringAppendf(
+      s,
+      "\nimputation over %d whole test clips: RMS error of the filled values, cm (mean: "
+      "the training mean pose;\nlinear, spline: in time; rigid limb: bone lengths kept;\nhg-vae: "
+      "its Adam steps from the mean, hg-vae+spline: from the spline; refiner: the bundle's refiner)"
+      "\n  %-26s %7s",
+      e.gap_clips, "missing", "clips");
   for (FillMethod m : AllFillMethods()) StringAppendf(s, " %10s", FillMethodName(m).c_str());
   StringAppendf(s, "   best baseline\n");
   for (const GapFigure& g : e.gaps) {
     StringAppendf(s, "  %-26s %7d", g.setting.name.c_str(), g.motions);
-    for (double v : g.rms_cm) StringAppendf(s, " %10.3f", v);
+    for (double v : g.rms_cm) {
+      if (std::isnan(v))
+        StringAppendf(s, " %10s", "-");  // the refiner, where the bundle has none
+      else
+        StringAppendf(s, " %10.3f", v);
+    }
     const int b = g.best_baseline();
     StringAppendf(s, "   %s\n", b < 0 ? "-" : FillMethodName(AllFillMethods()[b]).c_str());
   }

@@ -12,12 +12,16 @@
 #include "bundle/hgvae_bundle.h"
 #include "bundle/manifest.h"
 #include "dataset/windows.h"
+#include "imputation/gap_imputation.h"
 #include "imputation/hgvae_model.h"
+#include "imputation/hgvae_net.h"
 #include "imputation/hgvae_tensors.h"
+#include "imputation/refiner_fills.h"
 #include "io/file_util.h"
 #include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/data_parallel.h"
+#include "torch_util/parameters.h"
 #include "torch_util/threads.h"
 #include "torch_util/training_loop.h"
 
@@ -261,8 +265,242 @@ void RefreshBundleSettings(const std::string& dir, const HgvaeData& data,
   SetScoreStatistics(model.Score(held, config.ood_score), &m);
   m.ood_score = config.ood_score;
   m.ood_k = config.ood_k;
-  m.impute = config.impute;
+  if (config.impute.start != ImputeStart::kRefiner || m.refiner.enabled()) m.impute = config.impute;
   RewriteHgvaeManifest(dir, m);
+}
+
+}  // namespace motionfork
+
+namespace motionfork {
+
+namespace {
+
+// A random mask [W, J, 3] (1 = missing) of a kind users meet: values at random (0.5-95%), or a
+// gap (1 frame to the whole window) of one joint, a joint and everything below it, or one of the
+// skeleton's standard groups (a hand, an arm, the legs, the upper body).
+std::vector<uint8_t> RandomMask(const Skeleton& skeleton,
+                                const std::vector<std::vector<int>>& groups, int W,
+                                std::mt19937_64& rng) {
+  const int J = skeleton.num_joints();
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  GapSetting s;
+  const int kind = static_cast<int>(rng() % 4);
+  if (kind == 0) {
+    s.share = 0.005 + 0.945 * unit(rng);
+  } else if (kind == 3 && !groups.empty()) {
+    s.joints = groups[rng() % groups.size()];
+  } else {
+    const int j = 1 + static_cast<int>(rng() % (J - 1));
+    s.joints = {j};
+    for (int k = j + 1; kind == 2 && k < J; ++k) {  // descendants come after their parent
+      for (int a = skeleton.parent(k); a > 0; a = skeleton.parent(a)) {
+        if (a == j) {
+          s.joints.push_back(k);
+          break;
+        }
+      }
+    }
+  }
+  if (s.share == 0 && unit(rng) < 0.8) s.gap_frames = 1 + static_cast<int>(rng() % (W - 2));
+  std::vector<uint8_t> mask = GapMask(s, W, J, rng());
+  if (mask.empty()) {  // the gap did not fit bracketed: the whole window
+    s.gap_frames = 0;
+    mask = GapMask(s, W, J, rng());
+  }
+  return mask;
+}
+
+// A batch of refiner examples: clean root-relative windows [B, W, N], their fills and masks.
+struct RefinerBatch {
+  std::vector<float> clean, spline, linear, rigid;
+  std::vector<uint8_t> mask;
+  int64_t count = 0;
+};
+
+void AddRefinerExample(const Skeleton& skeleton, const std::vector<float>& fallback,
+                       const float* poses, int W, const std::vector<uint8_t>& mask,
+                       RefinerBatch* b) {
+  const int J = skeleton.num_joints(), N = 3 * (J - 1);
+  std::vector<float> positions(static_cast<size_t>(W) * J * 3, 0.0f);  // the root at the origin
+  for (int t = 0; t < W; ++t) {
+    std::copy(poses + static_cast<size_t>(t) * N, poses + static_cast<size_t>(t + 1) * N,
+              positions.begin() + static_cast<size_t>(t) * J * 3 + 3);
+  }
+  const RefinerFills f = MakeRefinerFills(skeleton, positions, mask, fallback);
+  b->clean.insert(b->clean.end(), poses, poses + static_cast<size_t>(W) * N);
+  b->spline.insert(b->spline.end(), f.spline.begin(), f.spline.end());
+  b->linear.insert(b->linear.end(), f.linear.begin(), f.linear.end());
+  b->rigid.insert(b->rigid.end(), f.rigid.begin(), f.rigid.end());
+  b->mask.insert(b->mask.end(), f.mask.begin(), f.mask.end());
+  ++b->count;
+}
+
+// Per window, the mean squared error of the missing values in cm^2 of the refined windows
+// (spline + correction) and of the spline: [B] each.
+std::pair<torch::Tensor, torch::Tensor> MissingErrors(HgvaeNet& net, const HgvaeTensors& norm,
+                                                      const RefinerBatch& b, int W) {
+  const torch::Tensor in = norm.RefinerInput(b.spline.data(), b.linear.data(), b.rigid.data(),
+                                             b.mask.data(), b.count, W);
+  const int64_t N = norm.coords();
+  const torch::Tensor spline = in.slice(2, 0, N);
+  const torch::Tensor refined = norm.DenormaliseFrameMajor(spline + net->refiner(in));
+  const torch::Tensor clean = torch::from_blob(const_cast<float*>(b.clean.data()), {b.count, W, N});
+  const torch::Tensor mask = in.slice(2, 3 * N, 4 * N);
+  const torch::Tensor count = mask.sum({1, 2}).clamp_min(1);
+  auto mse = [&](const torch::Tensor& x) {
+    return ((x - clean) * 100).pow(2).mul(mask).sum({1, 2}) / count;
+  };
+  return {mse(refined), mse(norm.DenormaliseFrameMajor(spline)).detach()};
+}
+
+// The refiner's loss: the mean over windows of log(refined + e) - log(spline + e), e = (0.05
+// cm)^2: every window counts by its improvement on the spline, short gaps (where the spline is
+// right to a millimetre) as much as long ones.
+torch::Tensor RelativeLoss(const std::pair<torch::Tensor, torch::Tensor>& errors) {
+  constexpr double kFloor = 0.0025;
+  return (torch::log(errors.first + kFloor) - torch::log(errors.second + kFloor)).mean();
+}
+
+}  // namespace
+
+HgvaeTrainSummary RefineHgvae(const HgvaeTrainConfig& config, const std::string& hgvae_dir,
+                              const HgvaeData& data, const std::string& out_dir,
+                              const HgvaeRefineCallbacks& cb, int stop_after_epochs) {
+  const RefinerTrainOptions& t = config.refiner.training;
+  DataParallel& workers = TrainingWorkers();
+  PinThreads(workers.ThreadsPerWorker(t.threads));
+  torch::manual_seed(t.seed);
+  HgvaeManifest m;
+  const HgvaeNet from = LoadHgvaeBundle(hgvae_dir, &m);
+  const int W = config.refiner.model.window, N = data.coords;
+  if (HgvaeCoords(m) != N)
+    throw std::invalid_argument(hgvae_dir + ": the bundle's skeleton does not match the data's");
+  m.refiner = config.refiner.model;
+  m.impute.start = ImputeStart::kRefiner;
+  m.impute.steps = 0;
+  SetManifestInfo(&m.info, "refiner_config", config.name);
+  HgvaeNet net = BuildHgvaeNet(m);
+  CopyTensorsByName(*from, *net);
+  const HgvaeTensors norm(m);
+  const Skeleton skeleton = Skeleton::Build(m.skeleton);
+  std::vector<float> fallback(3 + m.mean.size(), 0.0f);
+  for (size_t v = 0; v < m.mean.size(); ++v) fallback[3 + v] = static_cast<float>(m.mean[v]);
+  std::vector<std::vector<int>> groups;
+  for (const GapSetting& s : StandardGapSettings(skeleton, m.fps))
+    if (s.share == 0 && s.gap_frames == 0) groups.push_back(s.joints);
+  const std::vector<torch::Tensor> trained = net->refiner->parameters();
+  torch::optim::Adam adam(trained, torch::optim::AdamOptions(t.learning_rate));
+
+  const fs::path out(out_dir), ckpt = out / "checkpoint", state = ckpt / "refiner_best.txt";
+  HgvaeTrainSummary summary;
+  std::vector<double> resumed = {0, INFINITY, 0};  // epochs done, best held-out loss, bad epochs
+  if (workers.writes()) {
+    resumed[0] = ResumeTraining(ckpt, "hgvae.pt", *net, adam, out / "log.csv", cb.message);
+    if (resumed[0] > 0) {
+      std::ifstream in(state);
+      in >> resumed[1] >> resumed[2];
+    }
+  }
+  workers.BroadcastTrainingState(*net, adam, &resumed);
+  summary.first_epoch = static_cast<int>(resumed[0]);
+  double best = resumed[1];
+  int bad_epochs = static_cast<int>(resumed[2]);
+
+  // Held-out examples, the same every epoch: windows of the held-out clips every W frames.
+  RefinerBatch held;
+  {
+    std::mt19937_64 rng(t.seed + 99);
+    for (const auto& clip : data.held_out.poses) {
+      const int frames = static_cast<int>(clip.size() / N);
+      for (int s = 0; s + W <= frames && held.count < 600; s += W) {
+        AddRefinerExample(skeleton, fallback, clip.data() + static_cast<size_t>(s) * N, W,
+                          RandomMask(skeleton, groups, W, rng), &held);
+      }
+    }
+  }
+  if (held.count == 0) {
+    throw std::invalid_argument("refiner: no held-out clip has " + std::to_string(W) +
+                                " frames (refiner.window)");
+  }
+  std::vector<int> frames;
+  for (const auto& clip : data.train.poses) frames.push_back(static_cast<int>(clip.size() / N));
+  const int iterations = t.windows_per_epoch / t.batch_size, B = t.batch_size;
+  workers.RequireBatch(B, "refiner.batch_size");
+  const Share share = workers.BatchShare(B);
+  const double weight = static_cast<double>(share.size()) / B;
+  const auto start = std::chrono::steady_clock::now();
+  for (int epoch = summary.first_epoch; epoch < t.epochs; ++epoch) {
+    if (stop_after_epochs > 0 && epoch - summary.first_epoch >= stop_after_epochs) break;
+    if (bad_epochs >= t.patience) break;
+    const auto epoch_start = std::chrono::steady_clock::now();
+    SetLearningRate(adam, t.learning_rate * std::pow(t.lr_decay, epoch));
+    net->train();
+    RandomWindowSampler sampler(frames, W, t.seed * 1000003ull + epoch);
+    std::mt19937_64 rng(t.seed * 7919ull + epoch);
+    std::vector<double> sums = {0, 0, 0};  // loss, refined and spline MSE (cm^2)
+    for (int it = 0; it < iterations; ++it) {
+      RefinerBatch batch;
+      for (int b = 0; b < B; ++b) {  // every window's mask drawn, this worker's share kept
+        const Window w = sampler.Next();
+        const std::vector<uint8_t> mask = RandomMask(skeleton, groups, W, rng);
+        if (b >= share.begin && b < share.end) {
+          AddRefinerExample(skeleton, fallback,
+                            data.train.poses[w.clip].data() + static_cast<size_t>(w.start) * N, W,
+                            mask, &batch);
+        }
+      }
+      const auto errors = MissingErrors(net, norm, batch, W);
+      const torch::Tensor loss = RelativeLoss(errors);
+      DataParallelStep(workers, adam, loss, trained, weight, t.grad_clip);
+      const double l = loss.item<double>();
+      RequireFiniteLoss(l, "HG-VAE refiner training", epoch);
+      sums[0] += l;
+      sums[1] += errors.first.mean().item<double>();
+      sums[2] += errors.second.mean().item<double>();
+      if (cb.step) cb.step(epoch, double(it + 1) / iterations, sums[0] / (it + 1));
+    }
+    for (double& v : sums) v *= weight;
+    workers.SumValues(&sums);
+    net->eval();
+    double held_loss = 0, held_refined = 0, held_spline = 0;
+    {
+      torch::NoGradGuard no_grad;
+      const auto errors = MissingErrors(net, norm, held, W);
+      held_loss = RelativeLoss(errors).item<double>();
+      held_refined = std::sqrt(errors.first.mean().item<double>());
+      held_spline = std::sqrt(errors.second.mean().item<double>());
+    }
+    HgvaeEpochLog log;
+    log.epoch = epoch;
+    log.seconds = SecondsSince(epoch_start);
+    log.terms = {{"loss", sums[0] / iterations},
+                 {"refined_rms_cm", std::sqrt(sums[1] / iterations)},
+                 {"spline_rms_cm", std::sqrt(sums[2] / iterations)},
+                 {"held_out_loss", held_loss},
+                 {"held_out_refined_rms_cm", held_refined},
+                 {"held_out_spline_rms_cm", held_spline}};
+    if (workers.writes())
+      AppendEpochLog(out / "log.csv", "kl_weight", epoch, 0.0, log.seconds, log.terms);
+    if (held_loss < best) {
+      best = held_loss;
+      bad_epochs = 0;
+      SetManifestInfo(&m.info, "refiner_epoch", std::to_string(epoch + 1));
+      if (workers.writes()) SaveHgvaeBundle(out_dir, m, net);
+    } else {
+      ++bad_epochs;
+    }
+    std::ostringstream st;
+    st.precision(17);
+    st << best << " " << bad_epochs << "\n";
+    if (workers.writes()) {
+      SaveCheckpoint(ckpt.string(), "hgvae.pt", *net, adam, epoch + 1,
+                     {{state.filename().string(), st.str()}});
+    }
+    summary.epochs_done = epoch + 1;
+    if (cb.epoch) cb.epoch(log);
+  }
+  summary.seconds = SecondsSince(start);
+  return summary;
 }
 
 }  // namespace motionfork

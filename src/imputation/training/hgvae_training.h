@@ -64,6 +64,21 @@ HgvaeTrainSummary TrainHgvae(const HgvaeTrainConfig& config, const HgvaeManifest
                              const HgvaeData& data, const std::string& out_dir,
                              const HgvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
 
+struct HgvaeRefineCallbacks {
+  std::function<void(int epoch, double fraction, double loss)> step;
+  std::function<void(const HgvaeEpochLog&)> epoch;
+  std::function<void(const std::string&)> message;
+};
+
+// hgvae_dir: a trained HG-VAE bundle. Trains the config's `refiner` (supervised: clean training
+// windows with random masks, their spline, linear and rigid-limb fills in; the loss: each window's
+// log error at the missing values relative to the spline's) and writes OUT: the same bundle with
+// the refiner (impute.start refiner, 0 steps) at the epoch with the lowest held-out loss, log.csv
+// and checkpoint/ (running again resumes).
+HgvaeTrainSummary RefineHgvae(const HgvaeTrainConfig& config, const std::string& hgvae_dir,
+                              const HgvaeData& data, const std::string& out_dir,
+                              const HgvaeRefineCallbacks& callbacks, int stop_after_epochs = 0);
+
 // Rewrites a trained bundle's settings that do not change its weights from `config`: the
 // imputation defaults, the out-of-distribution score and k, and that score's statistics over the
 // held-out windows (recomputed). `hgvae train` does this on a run whose epochs are all done.

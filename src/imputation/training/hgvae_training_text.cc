@@ -29,4 +29,11 @@ std::string HgvaeTrainingDoneText(const HgvaeTrainSummary& s, const HgvaeTrainCo
       s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), out.c_str(), out.c_str());
 }
 
+std::string HgvaeRefineDoneText(const HgvaeTrainSummary& s, const std::string& out) {
+  return StringPrintf(
+      "refiner trained epochs %d..%d in %s; bundle with its refiner: %s (impute start refiner; "
+      "the epoch with the lowest held-out loss), log: %s/log.csv\n",
+      s.first_epoch + 1, s.epochs_done, Duration(s.seconds).c_str(), out.c_str(), out.c_str());
+}
+
 }  // namespace motionfork

@@ -15,4 +15,7 @@ std::string HgvaeDataText(const HgvaeData& data, int window);
 std::string HgvaeTrainingDoneText(const HgvaeTrainSummary& summary, const HgvaeTrainConfig& config,
                                   const std::string& out);
 
+// After `hgvae refine`: the epochs trained and the bundle written.
+std::string HgvaeRefineDoneText(const HgvaeTrainSummary& s, const std::string& out);
+
 }  // namespace motionfork
