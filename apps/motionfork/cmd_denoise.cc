@@ -26,10 +26,10 @@ namespace {
 
 void AddDenoiseOverrides(CLI::App* cmd, DenoiseOverrides* f) {
   cmd->add_option("--mode", f->mode,
-                  "regression (one pass of the fine-tuned encoder) or optimisation (Adam steps on "
-                  "the sequence's\n"
-                  "own loss first); default: the bundle's")
-      ->check(CLI::IsMember({"regression", "optimisation", "optimization"}));
+                  "refiner (the bundle's supervised refiner), regression (one pass of the "
+                  "fine-tuned encoder) or\noptimisation (Adam steps on the sequence's own loss "
+                  "first); default: the bundle's")
+      ->check(CLI::IsMember({"refiner", "regression", "optimisation", "optimization"}));
   cmd->add_option("--iterations", f->iterations,
                   "Optimisation mode: Adam steps (default: the bundle's, 50)")
       ->check(NonNegativeNumber);
