@@ -145,9 +145,9 @@ void AddImputeCommand(CLI::App& app, GlobalOptions& global) {
   const auto [cmd, o] = AddSubcommand<ImputeCmd>(
       &app, global, RunImpute, "impute",
       R"(Fill the missing values of a motion with an HG-VAE: NaN values in .npy, empty or nan fields in
-.csv, and/or --mask. Missing values start at the training mean and are moved by Adam to raise
-the model's score (the bundle's objective); each window keeps its best step. Observed values
-are kept exactly.)");
+.csv, and/or --mask. A bundle with a refiner (models/bandai/hgvae) corrects their spline fill;
+otherwise they start at the training mean and Adam moves them to raise the model's score, each
+window keeping its best step (--steps: after the refiner too). Observed values are kept exactly.)");
   AddModelOption(cmd, &o->model,
                  "HG-VAE bundle folder (hgvae.yaml + hgvae.pt), e.g. models/bandai/hgvae");
   AddMotionArgument(cmd, &o->motion, "Motion file (.npy, .csv, .bvh)", "--motion");

@@ -101,15 +101,18 @@ std::vector<std::string> ParseNoiseList(const std::string& file, const YAML::Nod
 void ParseRefinerConfig(const std::string& file, const YAML::Node& n, DvaeRefinerConfig* c) {
   std::set<std::string> keys = RefinerModelKeys();
   keys.insert(RefinerTrainKeys().begin(), RefinerTrainKeys().end());
-  keys.insert({"noise", "clean_share"});
+  keys.insert({"noise", "clean_share", "accel_weight"});
   CheckKeys(file, n, "refiner", keys);
   ParseRefinerModel(file, n, &c->model);
   ParseRefinerTraining(file, n, &c->training);
   if (n["noise"]) c->noise = ParseNoiseList(file, n["noise"]);
   c->clean_share = GetOr<double>(file, n, "clean_share", c->clean_share);
-  if (!c->model.enabled() || c->noise.empty() || !(c->clean_share >= 0 && c->clean_share < 1))
+  c->accel_weight = GetOr<double>(file, n, "accel_weight", c->accel_weight);
+  if (!c->model.enabled() || c->noise.empty() || !(c->clean_share >= 0 && c->clean_share < 1) ||
+      !(c->accel_weight >= 0))
     Fail(file, n,
-         "refiner: expected channels >= 1, at least one noise spec and 0 <= clean_share < 1");
+         "refiner: expected channels >= 1, at least one noise spec, 0 <= clean_share < 1 and "
+         "accel_weight >= 0");
 }
 
 DvaeTrainConfig ParseTrainRoot(const std::string& file, const YAML::Node& root) {

@@ -107,12 +107,14 @@ struct DenoiseOverrides {
 // Training the denoising refiner (`dvae refine`): clean training windows corrupted by one of
 // `noise` at a random level (each spec's sigma and rate are the upper ends: the level is a uniform
 // share of them), or left clean with probability clean_share; the refiner learns to give the clean
-// window back.
+// window back: loss = mean joint error (cm) + accel_weight x mean joint error of the accelerations
+// (second differences, cm per frame^2; what keeps noise from surviving as jerk).
 struct DvaeRefinerConfig {
   RefinerOptions model = {128};
   RefinerTrainOptions training;
   std::vector<std::string> noise = {"gaussian:0.12", "outliers:0.15,0.6", "jitter:0.12"};
   double clean_share = 0.1;
+  double accel_weight = 0;
 };
 
 struct DvaeTrainConfig {

@@ -291,12 +291,10 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f) const {
         "impute: start 'refiner' needs a bundle with a refiner (motionfork hgvae refine)");
   }
   torch::NoGradGuard no_grad;
-  const int64_t T = f.frames;
-  const torch::Tensor in = im.tensors->RefinerInput(f.spline.data(), f.linear.data(),
-                                                    f.rigid.data(), f.mask.data(), 1, T)[0];
+  const torch::Tensor in = im.tensors->RefinerInput(f)[0];
   const RefinerOptions& r = im.manifest.refiner;
   const torch::Tensor corrected =
-      in.slice(1, 0, im.N()) + RefineInWindows(im.net->refiner, in, r.window, r.stride);
+      im.tensors->Refined(in, RefineInWindows(im.net->refiner, in, r.window, r.stride));
   const torch::Tensor metres =
       im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
   return std::vector<float>(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());

@@ -70,9 +70,9 @@ class HgvaeNetImpl : public torch::nn::Module {
                const RefinerOptions& refiner = {});
 
   // The imputation refiner (null when the manifest has none): normalised fills [B, T,
-  // kRefinerChannels * N] (spline, linear, rigid limb, mask) -> the spline's correction [B, T, N];
+  // kRefinerChannels * N] (HgvaeTensors::RefinerInput) -> the spline's correction [B, T, N];
   // trained apart from the rest (`hgvae refine`).
-  static constexpr int64_t kRefinerChannels = 4;
+  static constexpr int64_t kRefinerChannels = 6;
   TemporalRefiner refiner{nullptr};
 
   // x: normalised windows, node-major [N, B, T]; labels: one-hot [B, classes] or undefined (all

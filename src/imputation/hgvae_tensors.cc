@@ -41,16 +41,28 @@ torch::Tensor HgvaeTensors::DenormaliseFrameMajor(const torch::Tensor& x) const 
   return x * std_.view({1, 1, coords_}) + mean_.view({1, 1, coords_});
 }
 
-torch::Tensor HgvaeTensors::RefinerInput(const float* spline, const float* linear,
-                                         const float* rigid, const uint8_t* mask, int64_t count,
-                                         int64_t frames) const {
+torch::Tensor HgvaeTensors::RefinerInput(const RefinerFills& f) const {
+  const int64_t T = f.frames, B = static_cast<int64_t>(f.mask.size()) / (T * coords_);
+  auto values = [&](const std::vector<float>& v) {
+    return torch::from_blob(const_cast<float*>(v.data()), {B, T, coords_}, torch::kFloat32);
+  };
   const torch::Tensor m =
-      torch::from_blob(const_cast<uint8_t*>(mask), {count, frames, coords_}, torch::kUInt8)
+      torch::from_blob(const_cast<uint8_t*>(f.mask.data()), {B, T, coords_}, torch::kUInt8)
           .to(torch::kFloat32);
   return torch::cat(
-      {NormaliseFrameMajor(spline, count, frames), NormaliseFrameMajor(linear, count, frames),
-       NormaliseFrameMajor(rigid, count, frames), m},
-      2);
+      {NormaliseFrameMajor(f.spline.data(), B, T), NormaliseFrameMajor(f.linear.data(), B, T),
+       NormaliseFrameMajor(f.rigid.data(), B, T), m, values(f.before) / kRefinerGapCap,
+       values(f.after) / kRefinerGapCap},
+      -1);
+}
+
+torch::Tensor HgvaeTensors::Refined(const torch::Tensor& in,
+                                    const torch::Tensor& correction) const {
+  const int64_t N = coords_;
+  const torch::Tensor d =
+      torch::minimum(in.slice(-1, 4 * N, 5 * N), in.slice(-1, 5 * N, 6 * N)) * kRefinerGapCap;
+  const torch::Tensor gate = d.pow(2) / (d.pow(2) + kRefinerGateFrames * kRefinerGateFrames);
+  return in.slice(-1, 0, N) + gate * correction;
 }
 
 }  // namespace motionfork

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "imputation/hgvae_options.h"
+#include "imputation/refiner_fills.h"
 
 namespace motionfork {
 
@@ -22,10 +23,14 @@ class HgvaeTensors {
   // Per value squared error in metres^2, [N, B, T].
   torch::Tensor SquaredErrorMetres(const torch::Tensor& a, const torch::Tensor& b) const;
 
-  // The imputation refiner's input [B, T, 4N] from fills laid out [B, T, N] each (metres) and the
-  // mask: spline, linear, rigid limb normalised, then the mask as 0 / 1.
-  torch::Tensor RefinerInput(const float* spline, const float* linear, const float* rigid,
-                             const uint8_t* mask, int64_t count, int64_t frames) const;
+  // The imputation refiner's input [B, T, 6N] from B windows of fills (refiner_fills.h): spline,
+  // linear, rigid limb normalised, the mask as 0 / 1, the distances before and after / cap.
+  torch::Tensor RefinerInput(const RefinerFills& fills) const;
+  // The refined values [.., T, N] (normalised) from the input above and the refiner's correction:
+  // spline + gate * correction, the gate d^2 / (d^2 + g^2) of the distance d to the nearest
+  // observed frame (g = kRefinerGateFrames): the spline is kept where the frames beside a gap pin
+  // it down, the correction counts fully in long gaps.
+  torch::Tensor Refined(const torch::Tensor& input, const torch::Tensor& correction) const;
   // [B, T, N] normalised <-> metres, frame-major.
   torch::Tensor NormaliseFrameMajor(const float* values, int64_t count, int64_t frames) const;
   torch::Tensor DenormaliseFrameMajor(const torch::Tensor& x) const;

@@ -54,6 +54,11 @@ TEST_CASE(
   CHECK_THROWS_WITH(
       ParseDvaeTrainConfig("protocol: bandai\nrefiner:\n  clean_share: 1\n", "cfg.yaml"),
       Contains("clean_share"));
+  CHECK_THROWS_WITH(
+      ParseDvaeTrainConfig("protocol: bandai\nrefiner:\n  accel_weight: -1\n", "cfg.yaml"),
+      Contains("accel_weight >= 0"));
+  CHECK(ParseDvaeTrainConfig("protocol: bandai\nrefiner:\n  accel_weight: 0.5\n", "cfg.yaml")
+            .refiner.accel_weight == 0.5);
   // A config asking for refiner mode: the bundles trained before the refiner use regression mode.
   const DvaeTrainConfig r =
       ParseDvaeTrainConfig("protocol: bandai\ndenoise:\n  mode: refiner\n", "cfg.yaml");

@@ -196,6 +196,8 @@ TEST_CASE(
                             refined = Column(tmp.file("r") + "/log.csv", "held_out_refined_cm");
   REQUIRE(refined.size() == 3);
   CHECK(refined.back() < 0.8 * input.back());
+  // Without an acceleration term the held-out loss (early stopping's) is the joint error.
+  CHECK(Column(tmp.file("r") + "/log.csv", "held_out_loss") == refined);
   DvaeModel model = LoadDvaeModel(tmp.file("r"));
   CHECK(model.manifest().refiner.channels == 16);
   CHECK(model.manifest().denoise.mode == DenoiseMode::kRefiner);
@@ -219,4 +221,12 @@ TEST_CASE(
   CHECK(DenoiseMotion(model, noisy.Slice(0, 4), o).num_frames() == 4);
   // A bundle without a refiner refuses the mode.
   CHECK_THROWS_WITH(DenoiseMotion(before, noisy, o), Contains("dvae refine"));
+  // With one, the loss adds the acceleration error (positive on noisy windows).
+  cfg.refiner.accel_weight = 2;
+  cfg.refiner.training.epochs = 1;
+  RefineDvae(cfg, TinyDir() + "/denoiser", data, tmp.file("a"), {});
+  const std::vector<double> loss = Column(tmp.file("a") + "/log.csv", "held_out_loss"),
+                            error = Column(tmp.file("a") + "/log.csv", "held_out_refined_cm");
+  REQUIRE(loss.size() == 1);
+  CHECK(loss[0] > error[0] + 0.01);
 }

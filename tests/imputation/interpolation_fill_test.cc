@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "imputation/refiner_fills.h"
 #include "test_support.h"
 
 using namespace motionfork;
@@ -126,4 +127,41 @@ TEST_CASE("rigid-limb fill keeps bone lengths and turns the bone between observe
     if (!mask[i]) CHECK(out[i] == m.positions()[i]);
   // Close to the truth on a walk (bones turn smoothly), and far better than doing nothing.
   CHECK(WorstMissing(out, m.positions(), mask) < 0.2);
+}
+
+TEST_CASE("the refiner's fills: root-relative, the mask, frames to the nearest observed value") {
+  const Motion m = testing::MakeWalkingMotion(20);
+  const Skeleton& sk = m.skeleton();
+  const int J = sk.num_joints(), N = 3 * (J - 1), leaf = J - 1;
+  std::vector<uint8_t> mask(m.positions().size(), 0);
+  Hide(&mask, J, leaf, 5, 8);    // a 4-frame gap
+  Hide(&mask, J, leaf, 17, 19);  // to the end
+  Hide(&mask, J, 1, 0, 19);      // never observed
+  std::vector<float> fallback(static_cast<size_t>(J) * 3, 0.25f);
+  const RefinerFills f = MakeRefinerFills(sk, m.positions(), mask, fallback);
+  REQUIRE(f.frames == 20);
+  REQUIRE(f.before.size() == static_cast<size_t>(20) * N);
+  const int v = 3 * (leaf - 1);  // the leaf's x among the non-root coordinates
+  auto at = [&](const auto& x, int t, int c) { return x[t * N + c]; };
+  const std::vector<float> before = {0, 1, 2, 3, 4, 0}, after = {0, 4, 3, 2, 1, 0};
+  for (int t = 4; t <= 9; ++t) {
+    CHECK(at(f.before, t, v) == before[t - 4]);
+    CHECK(at(f.after, t, v) == after[t - 4]);
+    CHECK(at(f.mask, t, v + 2) == (t >= 5 && t <= 8));
+  }
+  CHECK(at(f.before, 19, v) == 3);
+  CHECK(at(f.after, 17, v) == kRefinerGapCap);   // no observed value after: "none"
+  CHECK(at(f.before, 10, 0) == kRefinerGapCap);  // joint 1 never observed
+  CHECK(at(f.after, 0, 0) == kRefinerGapCap);
+  // Observed values are the motion's, root-relative; never-observed ones the fallback's.
+  const std::vector<float>& p = m.positions();
+  CHECK(at(f.spline, 3, v) == Approx(p[(3 * J + leaf) * 3] - p[3 * J * 3]).margin(1e-6));
+  CHECK(at(f.linear, 10, 0) == Approx(0.25f).margin(1e-6));  // the fallback, about the root
+  // Two windows appended: the second after the first.
+  RefinerFills all;
+  AppendRefinerFills(f, &all);
+  AppendRefinerFills(f, &all);
+  CHECK(all.frames == 20);
+  CHECK(all.after.size() == 2 * f.after.size());
+  CHECK(all.rigid[f.rigid.size() + 7] == f.rigid[7]);
 }

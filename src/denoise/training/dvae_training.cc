@@ -436,6 +436,19 @@ torch::Tensor JointErrorCm(const torch::Tensor& a, const torch::Tensor& b, const
   return (d.pow(2).sum(-1) + 1e-12).sqrt().mean() * 100;
 }
 
+// The refiner's loss: joint error plus `accel_weight` x the joint error of the second differences.
+torch::Tensor RefinerLoss(const torch::Tensor& refined, const torch::Tensor& clean,
+                          const DvaeTensors& norm, int joints, double accel_weight) {
+  torch::Tensor loss = JointErrorCm(refined, clean, norm, joints);
+  if (accel_weight > 0) {
+    auto accel = [](const torch::Tensor& x) {
+      return x.slice(1, 2) - 2 * x.slice(1, 1, -1) + x.slice(1, 0, -2);
+    };
+    loss = loss + accel_weight * JointErrorCm(accel(refined), accel(clean), norm, joints);
+  }
+  return loss;
+}
+
 }  // namespace
 
 DvaeTrainSummary RefineDvae(const DvaeTrainConfig& config, const std::string& dvae_dir,
@@ -517,26 +530,30 @@ DvaeTrainSummary RefineDvae(const DvaeTrainConfig& config, const std::string& dv
       }
       const torch::Tensor y = norm.Normalise(input.values.data(), Bs, W);
       const torch::Tensor x = norm.Normalise(target.values.data(), Bs, W);
-      const torch::Tensor loss = JointErrorCm(y + net->refiner(y), x, norm, J);
+      const torch::Tensor loss = RefinerLoss(y + net->refiner(y), x, norm, J, rc.accel_weight);
       DataParallelStep(workers, adam, loss, trained, weight, t.grad_clip);
       AddStep<2>({loss, JointErrorCm(y, x, norm, J).detach()}, "Motion-DVAE refiner training",
                  epoch, it, iterations, cb, sums);
     }
     SumOverWorkers(workers, weight, sums);
     net->eval();
-    double held_cm = 0, held_input_cm = 0;
+    double held_cm = 0, held_input_cm = 0, held_loss = 0;
     {
       torch::NoGradGuard no_grad;
       const torch::Tensor y = norm.Normalise(held_in.values.data(), held_in.count, W);
       const torch::Tensor x = norm.Normalise(held_target.values.data(), held_target.count, W);
-      held_cm = JointErrorCm(y + net->refiner(y), x, norm, J).item<double>();
+      const torch::Tensor refined = y + net->refiner(y);
+      held_cm = JointErrorCm(refined, x, norm, J).item<double>();
+      held_loss = RefinerLoss(refined, x, norm, J, rc.accel_weight).item<double>();
       held_input_cm = JointErrorCm(y, x, norm, J).item<double>();
     }
     const DvaeEpochLog log =
         LogEpoch<2>(out / "log.csv", workers.writes(), epoch, 0.0, SecondsSince(epoch_start),
-                    {"loss_cm", "input_cm"}, sums, iterations,
-                    {{"held_out_input_cm", held_input_cm}, {"held_out_refined_cm", held_cm}});
-    run.EndEpoch(workers, epoch, held_cm, &m, net, adam);
+                    {"loss", "input_cm"}, sums, iterations,
+                    {{"held_out_input_cm", held_input_cm},
+                     {"held_out_refined_cm", held_cm},
+                     {"held_out_loss", held_loss}});
+    run.EndEpoch(workers, epoch, held_loss, &m, net, adam);
     summary.epochs_done = epoch + 1;
     if (cb.epoch) cb.epoch(log);
   }

@@ -16,10 +16,12 @@ std::string DvaeTrainingStartText(DvaeStage stage, const DvaeTrainConfig& config
   s += finetune ? "unsupervised denoising training on noisy windows:"
                 : "supervised refiner training on clean windows corrupted at random levels up to:";
   for (const std::string& n : finetune ? config.finetune.noise : config.refiner.noise) s += " " + n;
-  return s + (finetune ? " (the encoder, initial-state and noise predictors learn; decoder and "
-                         "prior stay fixed)\n"
-                       : StringPrintf(" (%.0f%% left clean; only the refiner learns)\n",
-                                      100 * config.refiner.clean_share));
+  return s + (finetune
+                  ? " (the encoder, initial-state and noise predictors learn; decoder and "
+                    "prior stay fixed)\n"
+                  : StringPrintf(" (%.0f%% left clean, acceleration weight %g; only the "
+                                 "refiner learns)\n",
+                                 100 * config.refiner.clean_share, config.refiner.accel_weight));
 }
 
 std::string DvaeTrainingDoneText(DvaeStage stage, const DvaeTrainSummary& s,

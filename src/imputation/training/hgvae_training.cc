@@ -312,8 +312,8 @@ std::vector<uint8_t> RandomMask(const Skeleton& skeleton,
 
 // A batch of refiner examples: clean root-relative windows [B, W, N], their fills and masks.
 struct RefinerBatch {
-  std::vector<float> clean, spline, linear, rigid;
-  std::vector<uint8_t> mask;
+  std::vector<float> clean;
+  RefinerFills fills;
   int64_t count = 0;
 };
 
@@ -328,10 +328,7 @@ void AddRefinerExample(const Skeleton& skeleton, const std::vector<float>& fallb
   }
   const RefinerFills f = MakeRefinerFills(skeleton, positions, mask, fallback);
   b->clean.insert(b->clean.end(), poses, poses + static_cast<size_t>(W) * N);
-  b->spline.insert(b->spline.end(), f.spline.begin(), f.spline.end());
-  b->linear.insert(b->linear.end(), f.linear.begin(), f.linear.end());
-  b->rigid.insert(b->rigid.end(), f.rigid.begin(), f.rigid.end());
-  b->mask.insert(b->mask.end(), f.mask.begin(), f.mask.end());
+  AppendRefinerFills(f, &b->fills);
   ++b->count;
 }
 
@@ -339,11 +336,10 @@ void AddRefinerExample(const Skeleton& skeleton, const std::vector<float>& fallb
 // (spline + correction) and of the spline: [B] each.
 std::pair<torch::Tensor, torch::Tensor> MissingErrors(HgvaeNet& net, const HgvaeTensors& norm,
                                                       const RefinerBatch& b, int W) {
-  const torch::Tensor in = norm.RefinerInput(b.spline.data(), b.linear.data(), b.rigid.data(),
-                                             b.mask.data(), b.count, W);
+  const torch::Tensor in = norm.RefinerInput(b.fills);
   const int64_t N = norm.coords();
   const torch::Tensor spline = in.slice(2, 0, N);
-  const torch::Tensor refined = norm.DenormaliseFrameMajor(spline + net->refiner(in));
+  const torch::Tensor refined = norm.DenormaliseFrameMajor(norm.Refined(in, net->refiner(in)));
   const torch::Tensor clean = torch::from_blob(const_cast<float*>(b.clean.data()), {b.count, W, N});
   const torch::Tensor mask = in.slice(2, 3 * N, 4 * N);
   const torch::Tensor count = mask.sum({1, 2}).clamp_min(1);
