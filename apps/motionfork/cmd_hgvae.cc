@@ -9,6 +9,7 @@
 #include "flags.h"
 #include "imputation/training/hgvae_training.h"
 #include "imputation/training/hgvae_training_text.h"
+#include "imputation/training/refiner_calibration.h"
 
 namespace motionfork::app {
 namespace {
@@ -69,6 +70,22 @@ void RunHgvaeRefine(const HgvaeTrainCmd& o, GlobalOptions& g) {
   PrintText(HgvaeRefineDoneText(s, run.out));
 }
 
+struct CalibrateCmd {
+  std::string config = "hgvae_bandai", model, data, split_file, out;
+};
+
+void RunHgvaeCalibrate(const CalibrateCmd& o, GlobalOptions& g) {
+  const HgvaeTrainConfig cfg =
+      LoadHgvaeTrainConfig(ResolveConfigPath(ConfigDir(g.config_dir), "models", o.config));
+  const Dataset ds = LoadProtocolDataset(cfg.protocol, o.data, o.split_file, g);
+  const HgvaeData data = MakeHgvaeData(ds, cfg.training, cfg.refiner.model.window);
+  StageBars bars(!g.quiet);
+  const RefinerCalibration c = CalibrateHgvaeBundle(
+      o.model, data.held_out.poses, cfg.refiner.training.seed, o.out, bars.Callback());
+  bars.Finish();
+  PrintText(RefinerCalibrationText(c, o.out));
+}
+
 }  // namespace
 
 void AddHgvaeCommand(CLI::App& app, GlobalOptions& global) {
@@ -96,6 +113,15 @@ bundle with its refiner (impute start 'refiner'). Early stopping; resumable.)";
     AddTrainingRunOptions(cmd, &t->run, "Output folder (bundle, log, checkpoint)");
     if (refining) cmd->add_option("--prior", t->prior, "HG-VAE bundle")->required();
   }
+  const auto [cal, c] = AddSubcommand<CalibrateCmd>(
+      hg, global, RunHgvaeCalibrate, "calibrate",
+      R"(Fit how much of the refiner's correction to keep per kind of missing value (gap length x
+how crowded the frame is) on the training clips the refiner held out (the config's split), every
+standard gap setting drawn on each; OUT: the bundle with those weights (refiner_weights).)");
+  cal->add_option("--config", c->config, "Config name or YAML path (default hgvae_bandai)");
+  AddModelOption(cal, &c->model, "HG-VAE bundle with a refiner");
+  AddDataOptions(cal, &c->data, &c->split_file, "Data folder of the model's protocol");
+  cal->add_option("--out", c->out, "Output bundle folder (not MODEL)")->required();
   AddHgvaeSampleCommand(*hg, global);
   AddHgvaeEvalCommand(*hg, global);
 }

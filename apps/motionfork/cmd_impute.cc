@@ -1,5 +1,4 @@
 // motionfork impute / ood / hgvae sample / hgvae eval: using a trained HG-VAE.
-#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "app_common.h"
@@ -60,15 +59,7 @@ void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
     throw FormatError(o.motion + ": " + e.what());
   }
   WriteMotionFile(o.out, r.motion);
-  const size_t total = in.missing.size();
-  if (r.missing_values == 0) {
-    std::printf("no missing values in %s (no NaN, no --mask): wrote it unchanged to %s\n",
-                o.motion.c_str(), o.out.c_str());
-    return;
-  }
-  PrintText(MotionImputationText(model, r, total, options));
-  std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), r.motion.num_frames(),
-              r.motion.fps());
+  PrintText(MotionImputationText(model, r, in.missing.size(), options, o.motion, o.out));
 }
 
 // ---- ood ----
@@ -110,10 +101,7 @@ void RunSample(const SampleCmd& o, const GlobalOptions&) {
   const HgvaeModel model = LoadHgvaeModel(o.model);
   const int ci = model.ClassIndex(o.cls);
   WriteMotionFile(o.out, SampleMotion(model, o.count, ci, o.seed, !o.mean_latents));
-  std::printf(
-      "wrote %s: %d sample%s of %d frames (%.6g Hz) one after another%s, root at the origin\n",
-      o.out.c_str(), o.count, o.count == 1 ? "" : "s", model.window(), model.manifest().fps,
-      ci >= 0 ? (", class '" + o.cls + "'").c_str() : "");
+  PrintText(SampledMotionText(model, o.count, o.cls, o.out));
 }
 
 // ---- hgvae eval ----
@@ -154,8 +142,7 @@ window keeping its best step (--steps: after the refiner too). Observed values a
   cmd->add_option(
       "--mask", o->masks,
       "Values to treat as missing, repeatable: random:SHARE (e.g. random:0.1), joints:A,B (every "
-      "frame), joints:A,B@FIRST-LAST (0-based frames), or MASK.npy ([T, J] or [T, J, 3], non-zero "
-      "= "
+      "frame), joints:A,B@FIRST-LAST (0-based frames), or MASK.npy ([T, J] or [T, J, 3], non-zero: "
       "missing)");
   cmd->add_option("--class", o->cls, "Condition on this class (conditional models; default none)");
   cmd->add_option("--seed", o->seed, "Seed of random masks (default 0)")->check(Seed);

@@ -113,10 +113,7 @@ void RunTrain(const PriorTrainCmd& c, GlobalOptions& g) {
   std::signal(SIGINT, previous);
   bar->reset();
   if (!run.completed) {
-    std::printf(
-        "interrupted: the checkpoint in %s keeps every finished epoch; run the same command "
-        "to resume\n",
-        o.out.c_str());
+    PrintText(pipeline::PriorTrainingInterruptedText(o.out));
     g.exit_code = kExitInterrupted;
     return;
   }
@@ -150,11 +147,7 @@ void RunSample(const SampleOptions& o, const GlobalOptions&) {
   const double fps = prior.summary().fps > 0 ? prior.summary().fps : 30.0;
   const Motion poses = prior.Sample(o.count, o.seed, o.temperature, {}, fps, o.steps);
   WriteMotionFile(o.output, poses);
-  std::printf(
-      "wrote %s poses (skeleton %s, %d joints, metres, root at the origin, mean training "
-      "bone lengths) to %s\n",
-      WithThousands(o.count).c_str(), prior.skeleton().name().c_str(),
-      prior.skeleton().num_joints(), o.output.c_str());
+  PrintText(pipeline::PriorSampleText(prior, o.count, o.output));
 }
 
 void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
@@ -172,14 +165,12 @@ void AddPriorTrain(CLI::App* prior, GlobalOptions& global) {
       ->add_option("--protocol", t->request.protocol,
                    "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();
-  AddDataOption(train, &t->request.data,
-                "Data folder of the protocol (see 'motionfork dataset stats')");
+  AddDataOptions(train, &t->request.data, &t->request.split_file,
+                 "Data folder of the protocol (see 'motionfork dataset stats')");
   train->add_option("--out", t->request.out, "Output folder for the bundle and the checkpoint")
       ->required();
   train->add_option("--config", t->request.config,
                     "Prior config name in configs/models/ or YAML path (default: flow_prior)");
-  train->add_option("--split", t->request.split_file,
-                    "Split file overriding the protocol's split.file");
   train
       ->add_option("--threads", t->request.threads,
                    "LibTorch/BLAS threads (default $MOTIONFORK_THREADS or 1)")

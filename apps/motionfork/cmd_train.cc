@@ -1,5 +1,4 @@
 // motionfork train: train a generator from a model config on a protocol's training split.
-#include <cstdio>
 
 #include "app_common.h"
 #include "bundle/generator_bundle.h"
@@ -55,15 +54,9 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
     data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal,
                                 CacheDir(g.cache_dir), [&bar](double f) { bar.Update(f); });
   }
-  std::printf("training windows: %zu (stride %d), %zu with pseudo multimodal futures\n",
-              data.windows.size(), cfg.training.window_stride, WindowsWithMultimodalFutures(data));
   const ModelConfig model = TrainingModelConfig(cfg, ds.protocol, skeleton, run.split_file);
   const LossHookSources losses = MakeLossHooks(cfg, skeleton, config_dir);
-  if (!losses.constraints_path.empty()) {
-    std::printf("angle loss: %d constraints from %s\n", losses.constraints,
-                losses.constraints_path.c_str());
-  }
-  if (!losses.prior_dir.empty()) std::printf("prior loss: %s\n", losses.prior_dir.c_str());
+  PrintText(TrainingSetupText(data, cfg.training.window_stride, losses));
   if (IsRankZero()) AttachToBundle(run.out, losses.constraints_path, losses.prior_dir);
   EpochBars bars(cfg.training.epochs, !g.quiet);
   const TrainSummary s =

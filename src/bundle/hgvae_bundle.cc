@@ -1,5 +1,6 @@
 #include "bundle/hgvae_bundle.h"
 
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
 #include "core/error.h"
+#include "imputation/refiner_fills.h"
 #include "io/file_util.h"
 
 namespace motionfork {
@@ -74,6 +76,22 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
   }
   if (o->steps < 0 || !(o->learning_rate > 0))
     Fail(file, n, "impute: expected steps >= 0 and learning_rate > 0");
+}
+
+// refiner_weights: [kRefinerGapBuckets numbers >= 0] (absent: none), only with a refiner.
+void ParseRefinerWeights(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
+  const YAML::Node n = root["refiner_weights"];
+  if (!n) return;
+  m->refiner_weights = Get<std::vector<double>>(file, root, "refiner_weights");
+  bool valid = m->refiner.enabled() && m->refiner_weights.size() == size_t{kRefinerGapBuckets};
+  for (double w : m->refiner_weights) valid = valid && std::isfinite(w) && w >= 0;
+  if (!valid) {
+    Fail(file, n,
+         "refiner_weights: expected " + std::to_string(kRefinerGapBuckets) +
+             " finite numbers >= 0 and a refiner, found " +
+             std::to_string(m->refiner_weights.size()) + " numbers" +
+             (m->refiner.enabled() ? "" : " and no refiner"));
+  }
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
@@ -184,21 +202,25 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checks
     ParseManifestRefiner(path, root, &m.refiner);
     if (m.impute.start == ImputeStart::kRefiner && !m.refiner.enabled())
       Fail(path, root, "impute.start is refiner, but the bundle has no refiner");
+    ParseRefinerWeights(path, root, &m);
     m.info = ParseManifestInfo(root);
     return m;
   });
 }
 
 std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& checksums) {
-  return FormatManifest({m.format, m.protocol, m.fps, m.skeleton, checksums}, m.info,
-                        [&m](YAML::Emitter& out) {
-                          EmitModel(out, m.model);
-                          out << YAML::Key << "classes" << YAML::Value << YAML::Flow << m.classes;
-                          EmitManifestNormalisation(out, m.mean, m.std);
-                          EmitOod(out, m);
-                          EmitImpute(out, m.impute);
-                          EmitManifestRefiner(out, m.refiner);
-                        });
+  return FormatManifest(
+      {m.format, m.protocol, m.fps, m.skeleton, checksums}, m.info, [&m](YAML::Emitter& out) {
+        EmitModel(out, m.model);
+        out << YAML::Key << "classes" << YAML::Value << YAML::Flow << m.classes;
+        EmitManifestNormalisation(out, m.mean, m.std);
+        EmitOod(out, m);
+        EmitImpute(out, m.impute);
+        EmitManifestRefiner(out, m.refiner);
+        if (!m.refiner_weights.empty()) {
+          out << YAML::Key << "refiner_weights" << YAML::Value << YAML::Flow << m.refiner_weights;
+        }
+      });
 }
 
 constexpr TorchBundleNames kHgvaeFiles{"HG-VAE", "hgvae.yaml", "hgvae.pt"};
@@ -213,6 +235,7 @@ std::string HgvaeSignature(const HgvaeManifest& m) {
   s.ood_k = defaults.ood_k;
   s.score_mean = defaults.score_mean;
   s.score_std = defaults.score_std;
+  s.refiner_weights.clear();
   s.info.clear();
   return FormatHgvaeManifest(s);
 }

@@ -284,7 +284,7 @@ std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed,
 
 bool HgvaeModel::has_refiner() const { return static_cast<bool>(impl_->net->refiner); }
 
-std::vector<float> HgvaeModel::Refine(const RefinerFills& f) const {
+std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) const {
   const Impl& im = *impl_;
   if (!has_refiner()) {
     throw std::invalid_argument(
@@ -293,8 +293,13 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f) const {
   torch::NoGradGuard no_grad;
   const torch::Tensor in = im.tensors->RefinerInput(f)[0];
   const RefinerOptions& r = im.manifest.refiner;
+  torch::Tensor weights;
+  if (calibrated && !im.manifest.refiner_weights.empty()) {
+    const std::vector<float> w = RefinerValueWeights(f, im.manifest.refiner_weights);
+    weights = torch::tensor(w).view({f.frames, f.coords});
+  }
   const torch::Tensor corrected =
-      im.tensors->Refined(in, RefineInWindows(im.net->refiner, in, r.window, r.stride));
+      im.tensors->Refined(in, RefineInWindows(im.net->refiner, in, r.window, r.stride), weights);
   const torch::Tensor metres =
       im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
   return std::vector<float>(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());

@@ -74,8 +74,9 @@ class HgvaeModel {
                       const std::vector<float>* start = nullptr) const;
   // The imputation refiner's fill of a whole motion (root-relative [T, N], metres; every value,
   // observed ones included): the spline's values corrected by the refiner, in windows of its
-  // length blended. Throws std::invalid_argument when the bundle has no refiner.
-  std::vector<float> Refine(const RefinerFills& fills) const;
+  // length blended, each value's correction scaled by the bundle's calibration (refiner_weights;
+  // `calibrated` false: not). Throws std::invalid_argument when the bundle has no refiner.
+  std::vector<float> Refine(const RefinerFills& fills, bool calibrated = true) const;
   bool has_refiner() const;
 
   // Mean imputation (the baseline): missing values -> training mean.

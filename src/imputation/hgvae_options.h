@@ -139,6 +139,9 @@ struct HgvaeManifest {
   double ood_k = 2.0;
   ImputeOptions impute;    // defaults for `motionfork impute`
   RefinerOptions refiner;  // the imputation refiner (channels 0: none; refine/refiner_options.h)
+  // The refiner's correction per bucket of missing values (refiner_fills.h, kRefinerGapBuckets;
+  // fitted on held-out clips by `motionfork hgvae calibrate`); empty: 1 everywhere.
+  std::vector<double> refiner_weights;
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

@@ -56,13 +56,19 @@ torch::Tensor HgvaeTensors::RefinerInput(const RefinerFills& f) const {
       -1);
 }
 
-torch::Tensor HgvaeTensors::Refined(const torch::Tensor& in,
-                                    const torch::Tensor& correction) const {
-  const int64_t N = coords_;
-  const torch::Tensor d =
-      torch::minimum(in.slice(-1, 4 * N, 5 * N), in.slice(-1, 5 * N, 6 * N)) * kRefinerGapCap;
+torch::Tensor HgvaeTensors::RefinerPart(const torch::Tensor& in, RefinerChannels part) const {
+  const int64_t k = static_cast<int64_t>(part);
+  return in.slice(-1, k * coords_, (k + 1) * coords_);
+}
+
+torch::Tensor HgvaeTensors::Refined(const torch::Tensor& in, const torch::Tensor& correction,
+                                    const torch::Tensor& weights) const {
+  const torch::Tensor d = torch::minimum(RefinerPart(in, RefinerChannels::kBefore),
+                                         RefinerPart(in, RefinerChannels::kAfter)) *
+                          kRefinerGapCap;
   const torch::Tensor gate = d.pow(2) / (d.pow(2) + kRefinerGateFrames * kRefinerGateFrames);
-  return in.slice(-1, 0, N) + gate * correction;
+  return RefinerPart(in, RefinerChannels::kSpline) +
+         (weights.defined() ? gate * weights : gate) * correction;
 }
 
 }  // namespace motionfork

@@ -26,11 +26,16 @@ class HgvaeTensors {
   // The imputation refiner's input [B, T, 6N] from B windows of fills (refiner_fills.h): spline,
   // linear, rigid limb normalised, the mask as 0 / 1, the distances before and after / cap.
   torch::Tensor RefinerInput(const RefinerFills& fills) const;
+  // One block of N channels of that input, in that order.
+  enum class RefinerChannels { kSpline, kLinear, kRigid, kMask, kBefore, kAfter };
+  torch::Tensor RefinerPart(const torch::Tensor& input, RefinerChannels part) const;
   // The refined values [.., T, N] (normalised) from the input above and the refiner's correction:
   // spline + gate * correction, the gate d^2 / (d^2 + g^2) of the distance d to the nearest
   // observed frame (g = kRefinerGateFrames): the spline is kept where the frames beside a gap pin
-  // it down, the correction counts fully in long gaps.
-  torch::Tensor Refined(const torch::Tensor& input, const torch::Tensor& correction) const;
+  // it down, the correction counts fully in long gaps. weights (defined: the shape of correction)
+  // scale the gated correction per value (the bundle's calibration, RefinerValueWeights).
+  torch::Tensor Refined(const torch::Tensor& input, const torch::Tensor& correction,
+                        const torch::Tensor& weights = {}) const;
   // [B, T, N] normalised <-> metres, frame-major.
   torch::Tensor NormaliseFrameMajor(const float* values, int64_t count, int64_t frames) const;
   torch::Tensor DenormaliseFrameMajor(const torch::Tensor& x) const;

@@ -8,7 +8,12 @@
 namespace motionfork {
 
 std::string MotionImputationText(const HgvaeModel& model, const MotionImputation& r,
-                                 size_t total_values, const ImputeOptions& options) {
+                                 size_t total_values, const ImputeOptions& options,
+                                 const std::string& input, const std::string& out) {
+  if (r.missing_values == 0) {
+    return StringPrintf("no missing values in %s (no NaN, no --mask): wrote it unchanged to %s\n",
+                        input.c_str(), out.c_str());
+  }
   const ImputationScoreSummary scores = SummariseScores(model, r);
   const HgvaeManifest& m = model.manifest();
   std::string s = StringPrintf(
@@ -21,7 +26,17 @@ std::string MotionImputationText(const HgvaeModel& model, const MotionImputation
                 "windows: %.1f +- %.1f); out of distribution: %d -> %d windows\n",
                 ToString(m.ood_score), scores.mean_before, scores.mean_after, m.score_mean,
                 m.score_std, scores.ood_before, scores.ood_after);
+  StringAppendf(&s, "wrote %s (%d frames, %.6g Hz)\n", out.c_str(), r.motion.num_frames(),
+                r.motion.fps());
   return s;
+}
+
+std::string SampledMotionText(const HgvaeModel& model, int count, const std::string& cls,
+                              const std::string& out) {
+  return StringPrintf(
+      "wrote %s: %d sample%s of %d frames (%.6g Hz) one after another%s, root at the origin\n",
+      out.c_str(), count, count == 1 ? "" : "s", model.window(), model.manifest().fps,
+      cls.empty() ? "" : (", class '" + cls + "'").c_str());
 }
 
 std::string WindowScoresText(const HgvaeModel& model, const std::vector<WindowScore>& scores) {

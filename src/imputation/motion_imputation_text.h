@@ -12,9 +12,15 @@
 namespace motionfork {
 
 // How many of the motion's `total_values` values were imputed, in how many windows, with which
-// options, and the windows' scores before and after (r holds at least one imputed value).
+// options, the windows' scores before and after, and where the result went (`input` -> `out`;
+// a motion with nothing missing: that it was written unchanged).
 std::string MotionImputationText(const HgvaeModel& model, const MotionImputation& r,
-                                 size_t total_values, const ImputeOptions& options);
+                                 size_t total_values, const ImputeOptions& options,
+                                 const std::string& input, const std::string& out);
+
+// What `motionfork hgvae sample` wrote: count windows (of class `cls`, "" none) to `out`.
+std::string SampledMotionText(const HgvaeModel& model, int count, const std::string& cls,
+                              const std::string& out);
 
 // A row per window (frames, score, flagged or not), then how many the bundle's rule flags.
 std::string WindowScoresText(const HgvaeModel& model, const std::vector<WindowScore>& scores);

@@ -1,6 +1,8 @@
 #include "imputation/refiner_fills.h"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "imputation/interpolation_fill.h"
 
@@ -36,8 +38,83 @@ std::vector<float> GapDistance(const std::vector<uint8_t>& mask, int T, int N, i
 
 }  // namespace
 
+int RefinerGapBucket(float before, float after, float edge_speed, bool crowded_frame) {
+  int length_class = 7;  // not bracketed
+  if (before < kRefinerGapCap && after < kRefinerGapCap) {
+    const int length = static_cast<int>(before + after) - 1;
+    length_class = 0;
+    for (int upper = 1; length > upper && length_class < 6; upper *= 2) ++length_class;
+  }
+  const int speed_class = edge_speed < kRefinerSlow ? 0 : edge_speed <= kRefinerFast ? 1 : 2;
+  return (3 * length_class + speed_class) * 2 + (crowded_frame ? 1 : 0);
+}
+
+std::string RefinerGapBucketName(int bucket) {
+  static const char* kLengths[] = {"gap 1",    "gap 2",     "gap 3-4", "gap 5-8",
+                                   "gap 9-16", "gap 17-32", "gap 33+", "unbracketed"};
+  static const char* kSpeeds[] = {"slow", "medium", "fast"};
+  if (bucket < 0 || bucket >= kRefinerGapBuckets)
+    throw std::invalid_argument("RefinerGapBucketName: no bucket " + std::to_string(bucket));
+  return std::string(kLengths[bucket / 6]) + ", " + kSpeeds[bucket / 2 % 3] +
+         (bucket % 2 ? ", crowded" : ", sparse");
+}
+
+float RefinerEdgeSpeed(const RefinerFills& f, size_t row, int coord) {
+  const size_t N = static_cast<size_t>(f.coords), T = static_cast<size_t>(f.frames);
+  const size_t first = row - row % T, last = first + T - 1;  // the window's rows
+  const size_t i = row * N + coord;
+  auto at = [&](size_t r) { return f.spline[r * N + coord]; };
+  float speed = 0;
+  if (f.before[i] < kRefinerGapCap) {
+    const size_t edge = row - static_cast<size_t>(f.before[i]);
+    if (edge > first) speed = std::max(speed, std::abs(at(edge) - at(edge - 1)));
+  }
+  if (f.after[i] < kRefinerGapCap) {
+    const size_t edge = row + static_cast<size_t>(f.after[i]);
+    if (edge < last) speed = std::max(speed, std::abs(at(edge + 1) - at(edge)));
+  }
+  if (f.before[i] < kRefinerGapCap && f.after[i] < kRefinerGapCap) {
+    speed = std::max(speed, std::abs(at(row + static_cast<size_t>(f.after[i])) -
+                                     at(row - static_cast<size_t>(f.before[i]))) /
+                                (f.before[i] + f.after[i]));
+  }
+  return speed;
+}
+
+std::vector<int> RefinerGapBuckets(const RefinerFills& f) {
+  const size_t N = static_cast<size_t>(f.coords), frames = N == 0 ? 0 : f.mask.size() / N;
+  std::vector<int> buckets(f.mask.size(), -1);
+  for (size_t t = 0; t < frames; ++t) {
+    const uint8_t* m = f.mask.data() + t * N;
+    const size_t missing = static_cast<size_t>(std::count(m, m + N, uint8_t{1}));
+    const bool crowded = 4 * missing > N;
+    for (size_t v = 0; v < N; ++v) {
+      const size_t i = t * N + v;
+      if (m[v]) {
+        buckets[i] = RefinerGapBucket(f.before[i], f.after[i],
+                                      RefinerEdgeSpeed(f, t, static_cast<int>(v)), crowded);
+      }
+    }
+  }
+  return buckets;
+}
+
+std::vector<float> RefinerValueWeights(const RefinerFills& f, const std::vector<double>& weights) {
+  if (!weights.empty() && weights.size() != static_cast<size_t>(kRefinerGapBuckets)) {
+    throw std::invalid_argument("refiner weights: expected " + std::to_string(kRefinerGapBuckets) +
+                                ", got " + std::to_string(weights.size()));
+  }
+  const std::vector<int> buckets = RefinerGapBuckets(f);
+  std::vector<float> w(buckets.size(), 0.0f);
+  for (size_t i = 0; i < w.size(); ++i) {
+    if (buckets[i] >= 0) w[i] = weights.empty() ? 1.0f : static_cast<float>(weights[buckets[i]]);
+  }
+  return w;
+}
+
 void AppendRefinerFills(const RefinerFills& f, RefinerFills* all) {
   all->frames = f.frames;
+  all->coords = f.coords;
   all->spline.insert(all->spline.end(), f.spline.begin(), f.spline.end());
   all->linear.insert(all->linear.end(), f.linear.begin(), f.linear.end());
   all->rigid.insert(all->rigid.end(), f.rigid.begin(), f.rigid.end());
@@ -53,6 +130,7 @@ RefinerFills MakeRefinerFills(const Skeleton& skeleton, const std::vector<float>
             N = 3 * (J - 1);
   RefinerFills f;
   f.frames = T;
+  f.coords = N;
   f.spline = RootRelative(
       InterpolateMissing(positions, missing, J, Interpolation::kCubicSpline, fallback), T, J);
   f.linear = RootRelative(

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/skeleton.h"
@@ -21,10 +22,32 @@ constexpr float kRefinerGateFrames = 3;
 
 struct RefinerFills {
   int frames = 0;                            // per window
+  int coords = 0;                            // N
   std::vector<float> spline, linear, rigid;  // [T, N], metres, root-relative
   std::vector<uint8_t> mask;                 // [T, N], 1 = missing
   std::vector<float> before, after;          // [T, N], frames to the nearest observed value
 };
+
+// The refiner's correction is calibrated per bucket of missing values (HgvaeManifest's
+// refiner_weights, fitted on held-out clips by imputation/training/refiner_calibration.h): the
+// length of the value's gap (1, 2, 3-4, 5-8, 9-16, 17-32, 33 or more frames; or not bracketed by
+// observed values within kRefinerGapCap frames) x how fast its coordinate moves at the gap's edges
+// (RefinerEdgeSpeed: slow below kRefinerSlow, fast above kRefinerFast, metres per frame) x whether
+// more than a quarter of its frame's values are missing (the context a gap has around it).
+// Bucket = (3 * length class + speed class) * 2 + crowded.
+constexpr int kRefinerGapBuckets = 48;
+constexpr float kRefinerSlow = 0.003f, kRefinerFast = 0.015f;
+int RefinerGapBucket(float before, float after, float edge_speed, bool crowded_frame);
+std::string RefinerGapBucketName(int bucket);  // "gap 3-4, slow, sparse"
+// The weight of every value of every window of f ([T, N] each; 0 where observed) for weights
+// [kRefinerGapBuckets]; empty weights: 1 for every missing value.
+std::vector<float> RefinerValueWeights(const RefinerFills& f, const std::vector<double>& weights);
+// How fast coordinate `coord` moves at the edges of the gap holding row `row` (of every window's
+// rows one after another), metres per frame: the largest of the frame-to-frame change of the fill
+// just outside each edge and the mean change across the gap (0 where nothing is observed).
+float RefinerEdgeSpeed(const RefinerFills& f, size_t row, int coord);
+// Each value's bucket as above ([T, N] per window; -1 where observed).
+std::vector<int> RefinerGapBuckets(const RefinerFills& f);
 
 // Appends `f`'s window to `all` (the same number of frames in each).
 void AppendRefinerFills(const RefinerFills& f, RefinerFills* all);

@@ -39,4 +39,12 @@ std::string PriorScoreText(const std::string& file, const std::string& model,
   return text;
 }
 
+std::string PriorSampleText(const PosePrior& prior, int count, const std::string& out) {
+  return StringPrintf(
+      "wrote %s poses (skeleton %s, %d joints, metres, root at the origin, mean training bone "
+      "lengths) to %s\n",
+      WithThousands(count).c_str(), prior.skeleton().name().c_str(), prior.skeleton().num_joints(),
+      out.c_str());
+}
+
 }  // namespace motionfork::pipeline

@@ -16,4 +16,7 @@ std::string PriorScoreText(const std::string& file, const std::string& model,
                            const PosePrior& prior, const Motion& motion, const PriorScore& s,
                            bool per_frame);
 
+// What `motionfork prior sample` wrote: how many poses, on which skeleton, where.
+std::string PriorSampleText(const PosePrior& prior, int count, const std::string& out);
+
 }  // namespace motionfork::pipeline

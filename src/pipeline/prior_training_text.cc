@@ -53,4 +53,11 @@ std::string PriorTrainingDoneText(const PriorTrainingSummary& y, const std::stri
   return s;
 }
 
+std::string PriorTrainingInterruptedText(const std::string& out) {
+  return StringPrintf(
+      "interrupted: the checkpoint in %s keeps every finished epoch; run the same command to "
+      "resume\n",
+      out.c_str());
+}
+
 }  // namespace motionfork::pipeline

@@ -15,5 +15,7 @@ std::string PriorTrainingStartText(const PosePrior& prior, const PriorData& data
 std::string PriorEpochText(const PriorTrainProgress& p);
 // The figures of a completed run and where its bundle is (`out`).
 std::string PriorTrainingDoneText(const PriorTrainingSummary& y, const std::string& out);
+// A run stopped by Ctrl-C: the checkpoint in `out` keeps what it finished.
+std::string PriorTrainingInterruptedText(const std::string& out);
 
 }  // namespace motionfork::pipeline

@@ -4,11 +4,14 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 
 #include "bundle/hgvae_bundle.h"
 #include "imputation/interpolation_fill.h"
 #include "imputation/motion_imputation.h"
+#include "imputation/refiner_fills.h"
 #include "imputation/tiny_hgvae.h"
+#include "imputation/training/refiner_calibration.h"
 #include "test_support.h"
 
 using namespace motionfork;
@@ -214,4 +217,41 @@ TEST_CASE(
   CHECK(std::isfinite(figures[0].rms_cm[static_cast<int>(FillMethod::kRefiner)]));
   // Resuming a finished run trains nothing more and keeps the bundle.
   CHECK(RefineHgvae(cfg, dir.file("m"), data, dir.file("r"), {}).epochs_done == 0);
+
+  // Calibration on the held-out clips: per bucket the least-squares weight in [0, 1], so the
+  // summed relative error is at most the refiner's and the spline's (weights 1 and 0).
+  CHECK_THROWS_AS(CalibrateHgvaeBundle(dir.file("r"), data.held_out.poses, 1, dir.file("r")),
+                  std::invalid_argument);  // never over its input
+  const RefinerCalibration c =
+      CalibrateHgvaeBundle(dir.file("r"), data.held_out.poses, 1, dir.file("c"));
+  REQUIRE(c.weights.size() == static_cast<size_t>(kRefinerGapBuckets));
+  REQUIRE_FALSE(c.settings.empty());
+  double spline = 0, refiner = 0, calibrated = 0;
+  for (const RefinerCalibration::Setting& x : c.settings) {
+    spline += 1;
+    refiner += std::pow(x.refiner_cm / x.spline_cm, 2);
+    calibrated += std::pow(x.calibrated_cm / x.spline_cm, 2);
+  }
+  CHECK(calibrated <= refiner + 1e-9);
+  CHECK(calibrated <= spline + 1e-9);
+  for (double w : c.weights) CHECK((w >= 0 && w <= 1));
+  HgvaeManifest cm;
+  HgvaeNet net = LoadHgvaeBundle(dir.file("c"), &cm);
+  CHECK(cm.refiner_weights == c.weights);
+  CHECK(RefinerCalibrationText(c, "OUT").find("gap 1, slow, sparse") != std::string::npos);
+  // Weights 0 keep the spline exactly; the uncalibrated refiner ignores them.
+  cm.refiner_weights.assign(kRefinerGapBuckets, 0.0);
+  const HgvaeModel zero = HgvaeModel::FromNet(cm, net);
+  const std::vector<uint8_t> mask = GapMask({"arm gap", 0, {11, 12, 13}, 12}, 50, 17, 5);
+  const RefinerFills f =
+      MakeRefinerFills(motion.skeleton(), motion.positions(), mask, TrainingMeanPose(zero));
+  const std::vector<float> kept = zero.Refine(f);
+  for (size_t i = 0; i < kept.size(); ++i) REQUIRE(kept[i] == Approx(f.spline[i]).margin(1e-6));
+  CHECK(zero.Refine(f, false) == model.Refine(f));
+  // A bundle whose weights are not one per bucket is refused, naming the key.
+  std::string text = FormatHgvaeManifest(cm);
+  text.replace(text.find("refiner_weights: ["), 18, "refiner_weights: [1, ");
+  std::ofstream(dir.file("bad.yaml")) << text;
+  CHECK_THROWS_WITH(LoadHgvaeManifest(dir.file("bad.yaml")),
+                    Catch::Contains("refiner_weights: expected 48"));
 }

@@ -165,3 +165,52 @@ TEST_CASE("the refiner's fills: root-relative, the mask, frames to the nearest o
   CHECK(all.after.size() == 2 * f.after.size());
   CHECK(all.rigid[f.rigid.size() + 7] == f.rigid[7]);
 }
+
+TEST_CASE("the refiner's calibration buckets: gap length x edge speed x a crowded frame") {
+  // Gap length = before + after - 1 while both are bracketed; speed: slow, medium, fast.
+  CHECK(RefinerGapBucket(1, 1, 0, false) == 0);                // a 1-frame gap, slow
+  CHECK(RefinerGapBucket(1, 2, 0, true) == 7);                 // 2 frames, slow, crowded
+  CHECK(RefinerGapBucket(2, 3, 0.005f, false) == 14);          // 4 frames: 3-4, medium
+  CHECK(RefinerGapBucket(1, 5, 0.02f, false) == 22);           // 5: 5-8, fast
+  CHECK(RefinerGapBucket(4, 6, 0, false) == 24);               // 9: 9-16
+  CHECK(RefinerGapBucket(30, 31, 0, false) == 36);             // 60: 33+
+  CHECK(RefinerGapBucket(3, kRefinerGapCap, 0, false) == 42);  // not bracketed
+  CHECK(RefinerGapBucket(kRefinerGapCap, kRefinerGapCap, 0.1f, true) == 47);
+  CHECK(RefinerGapBucketName(5) == "gap 1, fast, crowded");
+  CHECK(RefinerGapBucketName(14) == "gap 3-4, medium, sparse");
+  CHECK_THROWS_AS(RefinerGapBucketName(kRefinerGapBuckets), std::invalid_argument);
+
+  // Edge speed: the step just outside the gap, or the mean step across it.
+  RefinerFills g;
+  g.frames = 6;
+  g.coords = 1;
+  g.spline = {0, 0.02f, 0.04f, 0.045f, 0.048f, 0.05f};
+  g.mask = {0, 0, 0, 1, 1, 0};
+  g.before = {0, 0, 0, 1, 2, 0};
+  g.after = {0, 0, 0, 2, 1, 0};
+  CHECK(RefinerEdgeSpeed(g, 3, 0) == Approx(0.02f));                        // frame 2 - frame 1
+  CHECK(RefinerGapBuckets(g) == std::vector<int>{-1, -1, -1, 11, 11, -1});  // 2, fast, crowded
+
+  const Motion m = testing::MakeWalkingMotion(20);
+  const Skeleton& sk = m.skeleton();
+  const int J = sk.num_joints(), N = 3 * (J - 1), leaf = J - 1;
+  std::vector<uint8_t> mask(m.positions().size(), 0);
+  Hide(&mask, J, leaf, 5, 8);                             // a 4-frame gap, few values missing
+  for (int j = 1; j < J; ++j) Hide(&mask, J, j, 12, 12);  // frame 12: every value
+  const RefinerFills f = MakeRefinerFills(sk, m.positions(), mask, {});
+  REQUIRE(f.coords == N);
+  const std::vector<int> buckets = RefinerGapBuckets(f);
+  const int v = 3 * (leaf - 1);
+  const int gap4 = buckets[6 * N + v], crowded1 = buckets[12 * N];
+  CHECK(buckets[4 * N + v] == -1);                  // observed
+  CHECK((gap4 / 6 == 2 && gap4 % 2 == 0));          // gap 3-4, sparse
+  CHECK((crowded1 / 6 == 0 && crowded1 % 2 == 1));  // gap 1, crowded
+  std::vector<double> weights(kRefinerGapBuckets, 0.0);
+  weights[gap4] = 0.5;
+  const std::vector<float> w = RefinerValueWeights(f, weights);
+  CHECK(w[6 * N + v] == 0.5f);
+  CHECK(w[12 * N] == 0.0f);
+  CHECK(RefinerValueWeights(f, {})[12 * N] == 1.0f);  // uncalibrated: 1 where missing
+  CHECK(RefinerValueWeights(f, {})[4 * N + v] == 0.0f);
+  CHECK_THROWS_AS(RefinerValueWeights(f, {1.0, 2.0}), std::invalid_argument);
+}

@@ -1,6 +1,7 @@
 #include "generator/training/training_text.h"
 
 #include "core/text_format.h"
+#include "generator/training/training_manifest.h"
 
 namespace motionfork {
 
@@ -51,6 +52,19 @@ std::string TrainingDoneText(const TrainSummary& s, int epochs, const std::strin
     }
   }
   return text;
+}
+
+std::string TrainingSetupText(const TrainingWindows& data, int stride,
+                              const LossHookSources& losses) {
+  std::string s =
+      StringPrintf("training windows: %zu (stride %d), %zu with pseudo multimodal futures\n",
+                   data.windows.size(), stride, WindowsWithMultimodalFutures(data));
+  if (!losses.constraints_path.empty()) {
+    StringAppendf(&s, "angle loss: %d constraints from %s\n", losses.constraints,
+                  losses.constraints_path.c_str());
+  }
+  if (!losses.prior_dir.empty()) StringAppendf(&s, "prior loss: %s\n", losses.prior_dir.c_str());
+  return s;
 }
 
 }  // namespace motionfork

@@ -338,10 +338,10 @@ std::pair<torch::Tensor, torch::Tensor> MissingErrors(HgvaeNet& net, const Hgvae
                                                       const RefinerBatch& b, int W) {
   const torch::Tensor in = norm.RefinerInput(b.fills);
   const int64_t N = norm.coords();
-  const torch::Tensor spline = in.slice(2, 0, N);
+  const torch::Tensor spline = norm.RefinerPart(in, HgvaeTensors::RefinerChannels::kSpline);
   const torch::Tensor refined = norm.DenormaliseFrameMajor(norm.Refined(in, net->refiner(in)));
   const torch::Tensor clean = torch::from_blob(const_cast<float*>(b.clean.data()), {b.count, W, N});
-  const torch::Tensor mask = in.slice(2, 3 * N, 4 * N);
+  const torch::Tensor mask = norm.RefinerPart(in, HgvaeTensors::RefinerChannels::kMask);
   const torch::Tensor count = mask.sum({1, 2}).clamp_min(1);
   auto mse = [&](const torch::Tensor& x) {
     return ((x - clean) * 100).pow(2).mul(mask).sum({1, 2}) / count;
