@@ -115,9 +115,8 @@ RefinerCalibration CalibrateHgvaeBundle(const std::string& model_dir,
                                 " is the input bundle; expected another folder");
   }
   HgvaeManifest m;
-  HgvaeNet net = LoadHgvaeBundle(model_dir, &m);
-  const HgvaeModel model = HgvaeModel::FromNet(m, net);
-  const RefinerCalibration c = CalibrateRefiner(model, clips, seed, progress);
+  HgvaeNet net = LoadHgvaeBundle(model_dir, &m);  // saved as loaded: the same weights file
+  const RefinerCalibration c = CalibrateRefiner(LoadHgvaeModel(model_dir), clips, seed, progress);
   m.refiner_weights = c.weights;
   SetManifestInfo(&m.info, "refiner_calibration",
                   std::to_string(c.clips) + " held-out clips, seed " + std::to_string(seed));
