@@ -1,5 +1,6 @@
 #include "bundle/dvae_bundle.h"
 
+#include <cmath>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -14,6 +15,7 @@
 #include "config/yaml_util.h"
 #include "core/error.h"
 #include "core/motion_noise.h"
+#include "denoise/refiner_blend.h"
 #include "io/file_util.h"
 
 namespace motionfork {
@@ -194,6 +196,23 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
     ParseManifestRefiner(path, root, &m.refiner);
     if (m.denoise.mode == DenoiseMode::kRefiner && !m.refiner.enabled())
       Fail(path, root, "denoise.mode is refiner, but the bundle has no refiner");
+    if (const YAML::Node b = root["refiner_blend"]) {
+      if (!b.IsMap()) Fail(path, b, "refiner_blend: expected a mapping {sigma, weights}");
+      CheckKeys(path, b, "refiner_blend", {"sigma", "weights"});
+      RefinerBlend& blend = m.refiner_blend;
+      blend.sigma = Get<double>(path, b, "sigma");
+      blend.weights = Get<std::vector<double>>(path, b, "weights");
+      bool valid = m.refiner.enabled() && blend.weights.size() == size_t{kRefinerBlendBins} &&
+                   std::isfinite(blend.sigma) && blend.sigma >= 0 && blend.sigma <= 100;
+      for (double w : blend.weights) valid = valid && std::isfinite(w) && w >= 0 && w <= 1;
+      if (!valid) {
+        Fail(path, b,
+             "refiner_blend: expected sigma in [0, 100] frames, " +
+                 std::to_string(kRefinerBlendBins) + " weights in [0, 1] and a refiner, found " +
+                 std::to_string(blend.weights.size()) + " weights" +
+                 (m.refiner.enabled() ? "" : " and no refiner"));
+      }
+    }
     m.info = ParseManifestInfo(root);
     return m;
   });
@@ -209,6 +228,11 @@ std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& che
         out << YAML::Key << "finetune_noise" << YAML::Value << YAML::Flow << m.finetune_noise;
         EmitDenoise(out, m.denoise);
         EmitManifestRefiner(out, m.refiner);
+        if (!m.refiner_blend.weights.empty()) {
+          out << YAML::Key << "refiner_blend" << YAML::Value << YAML::BeginMap << YAML::Key
+              << "sigma" << YAML::Value << m.refiner_blend.sigma << YAML::Key << "weights"
+              << YAML::Value << YAML::Flow << m.refiner_blend.weights << YAML::EndMap;
+        }
       });
 }
 
@@ -218,6 +242,7 @@ constexpr TorchBundleNames kDvaeFiles{"Motion-DVAE", "dvae.yaml", "dvae.pt"};
 std::string DvaeSignature(const DvaeManifest& m) {
   DvaeManifest s = m;
   s.denoise = DenoiseOptions{};
+  s.refiner_blend = {};
   s.info.clear();
   return FormatDvaeManifest(s);
 }

@@ -10,6 +10,7 @@
 #include "denoise/dvae_net.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
+#include "denoise/refiner_blend.h"
 #include "torch_util/parameters.h"
 
 namespace motionfork {
@@ -149,6 +150,10 @@ std::vector<std::vector<float>> DvaeModel::Denoise(
     int windows = 0;
     std::vector<std::vector<float>> out = RefineSequences(
         i.manifest, i.net, *i.norm, sequences, std::max(1, threads_), &windows, progress);
+    if (options.refiner_blend && !i.manifest.refiner_blend.weights.empty()) {
+      for (size_t q = 0; q < out.size(); ++q)
+        out[q] = BlendRefined(sequences[q], out[q], J, i.manifest.refiner_blend);
+    }
     if (stats) {
       stats->windows = windows;
       stats->seconds =

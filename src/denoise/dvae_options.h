@@ -13,6 +13,7 @@
 
 #include "core/enum_names.h"
 #include "core/skeleton.h"
+#include "denoise/refiner_blend.h"
 #include "refine/refiner_options.h"
 
 namespace motionfork {
@@ -92,6 +93,9 @@ struct DenoiseOptions {
   int samples = 4;  // posterior draws averaged (x0, z, noise variances); 0 = posterior means
   int stride = 15;  // windows overlap by window - stride frames
   uint64_t seed = 0;
+  // Refiner mode: blend the output with the input by the bundle's refiner_blend (refiner_blend.h);
+  // false: the refiner's output as it is (what the blend is fitted on). Not a bundle key.
+  bool refiner_blend = true;
 };
 
 // Command-line overrides of a bundle's DenoiseOptions; unset fields ("" or < 0) keep the bundle's
@@ -144,7 +148,10 @@ struct DvaeManifest {
   bool finetuned = false;  // the encoder was fine-tuned on noisy data (regression mode)
   std::vector<std::string> finetune_noise;  // the corruptions it was fine-tuned on
   RefinerOptions refiner;                   // the denoising refiner (channels 0: none)
-  DenoiseOptions denoise;                   // defaults of `motionfork denoise`
+  // Its output blended with the input by the local correction size (refiner_blend.h; fitted at
+  // the end of `dvae refine`); no weights: the refiner's output as it is.
+  RefinerBlend refiner_blend;
+  DenoiseOptions denoise;  // defaults of `motionfork denoise`
   std::vector<std::pair<std::string, std::string>> info;
 };
 

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "eval/metrics.h"
@@ -55,6 +56,8 @@ struct RepairedForecast {
   std::string setting;  // the occlusion or noise setting
   Displacement before;  // from the damaged (mean-filled, noisy) histories
   Displacement after;   // from the repaired (imputed, denoised) ones
+  // From histories repaired in other ways, e.g. {"spline", ...}, {"refiner", ...}.
+  std::vector<std::pair<std::string, Displacement>> others;
 };
 
 struct ForecastingFigures {

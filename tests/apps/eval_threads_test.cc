@@ -86,6 +86,10 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
     CheckSameFigures(
         "-q hgvae eval --model " + models + "/hgvae --windows 100 --gap-clips 3" + common, dir);
     CHECK(Figures(dir.file("1.json"))["windows"].get<int>() == 100);
+    // Forecasting also from the histories filled by the classical fills and the refiner.
+    const nlohmann::json row = Figures(dir.file("1.json"))["forecasting"]["settings"][0];
+    for (const char* key : {"ade_linear", "ade_spline", "fde_rigid_limb", "ade_refiner"})
+      CHECK(row.contains(key));
   }
   SECTION("dvae eval: regression and optimisation modes, forecasting") {
     CheckSameFigures(

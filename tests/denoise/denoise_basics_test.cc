@@ -6,6 +6,7 @@
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_windows.h"
+#include "denoise/refiner_blend.h"
 #include "test_support.h"
 
 using namespace motionfork;
@@ -119,4 +120,41 @@ TEST_CASE("denoising figures: error, acceleration and the smoothing baseline") {
     CHECK(smooth[t * J * 3] == Approx(line[t * J * 3]).margin(1e-5));  // 3 sigma from the edges
   const std::vector<float> smoothed_bump = GaussianSmooth(bumped, J, 2.0);
   CHECK(std::abs(smoothed_bump[(10 * J) * 3 + 2]) < 0.005);
+}
+
+TEST_CASE("refiner blend: bins of the local correction size, the blend, least-squares weights") {
+  CHECK(RefinerBlendBin(0) == 0);
+  CHECK(RefinerBlendBin(0.3) == 1);
+  CHECK(RefinerBlendBin(1.0) == 4);
+  CHECK(RefinerBlendBin(100) == kRefinerBlendBins - 1);
+  CHECK(RefinerBlendBinName(3) == "0.75-1 cm");
+  CHECK(RefinerBlendBinName(kRefinerBlendBins - 1) == ">= 5 cm");
+  // Two joints, 40 frames: the refined motion 2 cm off in every value of frames 20-39.
+  const int J = 2, T = 40;
+  std::vector<float> input(T * J * 3, 0.0f), refined = input;
+  for (int k = 20 * J * 3; k < T * J * 3; ++k) refined[k] = 0.02f;
+  const std::vector<double> size = LocalCorrectionCm(input, refined, J, 2);
+  CHECK(size[0] == Approx(0));
+  CHECK(size[39] == Approx(100 * std::sqrt(3 * 0.0004)));          // sqrt(3) x 2 cm per joint
+  CHECK(size[20] == Approx(100 * std::sqrt(3 * 0.0004 * 3 / 5)));  // 3 of its 5 frames
+  RefinerBlend blend{0, std::vector<double>(kRefinerBlendBins, 1.0)};
+  blend.weights[kRefinerBlendBins - 2] = 0.5;  // 3-5 cm: sqrt(3) x 2 = 3.46 cm
+  const std::vector<float> out = BlendRefined(input, refined, J, blend);
+  CHECK(out[30 * J * 3] == Approx(0.01f));
+  CHECK(BlendRefined(input, refined, J, {}) == refined);
+  CHECK_THROWS_AS(BlendRefined(input, refined, J, {0, {1.0}}), std::invalid_argument);
+  // A smoothed base: a constant input stays itself.
+  blend.sigma = 1.5;
+  CHECK(BlendRefined(input, refined, J, blend)[30 * J * 3] == Approx(0.01f));
+  // A clean setting (refined off the truth) and a noisy one (the refiner right): the fit keeps
+  // none of the correction where only the clean one falls and all of it where the noisy one does.
+  RefinerBlendFit fit;
+  std::vector<float> noisy(T * J * 3, 0.05f);  // truth 0, the refiner returns it
+  fit.AddSetting({input}, {std::vector<float>(T * J * 3, 0.004f)}, {input}, J);
+  fit.AddSetting({noisy}, {input}, {input}, J);
+  const std::vector<double> weights = fit.Blend().weights;
+  CHECK(fit.Error() == Approx(0).margin(1e-12));  // both settings fitted exactly
+  CHECK(weights[RefinerBlendBin(100 * std::sqrt(3 * 0.000016))] == 0.0);  // 0.69 cm: clean
+  CHECK(weights[RefinerBlendBin(100 * std::sqrt(3 * 0.0025))] == 1.0);    // 8.7 cm: noisy
+  CHECK(weights[1] == 1.0);                                               // no data
 }

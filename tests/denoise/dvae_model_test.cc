@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/motion_noise.h"
 #include "denoise/denoise_metrics.h"
+#include "denoise/refiner_blend.h"
 #include "io/file_util.h"
 #include "test_support.h"
 #include "tiny_dvae.h"
@@ -221,6 +222,16 @@ TEST_CASE(
   CHECK(DenoiseMotion(model, noisy.Slice(0, 4), o).num_frames() == 4);
   // A bundle without a refiner refuses the mode.
   CHECK_THROWS_WITH(DenoiseMotion(before, noisy, o), Contains("dvae refine"));
+  // The run ends by fitting the blend weights on held-out clips; the output blends by them and
+  // without them is the refiner's own.
+  REQUIRE(model.manifest().refiner_blend.weights.size() == static_cast<size_t>(kRefinerBlendBins));
+  CHECK(model.manifest().refiner_blend.weights == s.refiner_blend.weights);
+  CHECK(model.manifest().refiner_blend.sigma == s.refiner_blend.sigma);
+  DenoiseOptions raw = o;
+  raw.refiner_blend = false;
+  const Motion r = DenoiseMotion(model, noisy, raw);
+  CHECK(a.positions() == BlendRefined(noisy.positions(), r.positions(), noisy.num_joints(),
+                                      model.manifest().refiner_blend));
   // With one, the loss adds the acceleration error (positive on noisy windows).
   cfg.refiner.accel_weight = 2;
   cfg.refiner.training.epochs = 1;

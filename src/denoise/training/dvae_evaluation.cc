@@ -89,8 +89,10 @@ ForecastingFigures Forecasting(const DvaeModel& model, const Dataset& ds,
   ForecastingFigures f{fc.name, o.k, probe.count(), probe.Score(histories(contexts)), {}};
   for (size_t n = 0; n < o.noises.size(); ++n) {
     const Sequences noisy = Noisy(contexts, o.noises[n], o.seed + 7777 + n, J);
-    f.settings.push_back({o.noises[n], probe.Score(histories(noisy)),
-                          probe.Score(histories(model.Denoise(noisy, reg)))});
+    f.settings.push_back({o.noises[n],
+                          probe.Score(histories(noisy)),
+                          probe.Score(histories(model.Denoise(noisy, reg))),
+                          {}});
   }
   return f;
 }

@@ -22,6 +22,7 @@ namespace motionfork {
 struct DvaeData {
   int joints = 0;
   std::vector<std::vector<float>> train, held_out;  // per clip [T, J, 3], metres
+  int history = 0;                                  // the protocol's history frames (t_his)
 
   // Frames of the training clips (held-out ones not counted).
   long long train_frames() const;
@@ -46,6 +47,7 @@ struct DvaeTrainSummary {
   int first_epoch = 0, epochs_done = 0;
   double seconds = 0;
   bool stopped_early = false;
+  RefinerBlend refiner_blend;  // RefineDvae: the kept refiner's blend
 };
 
 // base: protocol, fps, skeleton, noise prior, denoise defaults, info. Writes OUT/dvae.yaml +

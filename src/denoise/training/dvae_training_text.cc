@@ -1,6 +1,7 @@
 #include "denoise/training/dvae_training_text.h"
 
 #include "core/text_format.h"
+#include "denoise/refiner_blend.h"
 
 namespace motionfork {
 
@@ -24,6 +25,25 @@ std::string DvaeTrainingStartText(DvaeStage stage, const DvaeTrainConfig& config
                                  100 * config.refiner.clean_share, config.refiner.accel_weight));
 }
 
+namespace {
+
+// The refiner's blend weights per bin of correction size, one line ("" without them).
+std::string RefinerBlendText(const RefinerBlend& blend) {
+  const std::vector<double>& weights = blend.weights;
+  if (weights.empty()) return "";
+  std::string s = StringPrintf(
+      "refiner blend (held-out clips): base the input smoothed by sigma %.3g frames; weight of "
+      "the correction by its size:",
+      blend.sigma);
+  for (size_t b = 0; b < weights.size(); ++b) {
+    StringAppendf(&s, "%s %s %.2f", b ? "," : "", RefinerBlendBinName(static_cast<int>(b)).c_str(),
+                  weights[b]);
+  }
+  return s + "\n";
+}
+
+}  // namespace
+
 std::string DvaeTrainingDoneText(DvaeStage stage, const DvaeTrainSummary& s,
                                  const std::string& out) {
   static const char* const kWhat[] = {
@@ -40,7 +60,7 @@ std::string DvaeTrainingDoneText(DvaeStage stage, const DvaeTrainSummary& s,
              Duration(s.seconds).c_str(),
              s.stopped_early ? " (stopped early: the held-out figure stopped improving)" : "") +
          StringPrintf(kWhat[k], out.c_str()) + StringPrintf(", log: %s/log.csv\n", out.c_str()) +
-         StringPrintf(kNext[k], out.c_str());
+         StringPrintf(kNext[k], out.c_str()) + RefinerBlendText(s.refiner_blend);
 }
 
 }  // namespace motionfork

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "imputation/gap_imputation.h"
 #include "imputation/occlusion.h"
 
 namespace motionfork {
@@ -56,7 +57,41 @@ void OodTests(const HgvaeModel& model, const std::vector<float>& windows, uint64
   }
 }
 
-// Forecasting from clean, mean-imputed and HG-VAE-imputed histories of protocol test windows.
+// H histories [H, T, N] (root-relative, root dropped) with mask [H, T, N] filled by a whole-motion
+// method (gap_imputation.h), each history a motion of its own with the root at the origin: what
+// `predict --impute` does with a history.
+std::vector<float> FillHistories(FillMethod method, const HgvaeModel& model,
+                                 const std::vector<float>& hist, const std::vector<uint8_t>& mask,
+                                 int H, const ImputeOptions& options) {
+  const int T = model.window(), N = static_cast<int>(model.coords()), J = N / 3 + 1;
+  const auto skeleton = std::make_shared<const Skeleton>(model.skeleton());
+  std::vector<float> out(hist.size());
+  for (int h = 0; h < H; ++h) {
+    std::vector<float> positions(static_cast<size_t>(T) * J * 3, 0.0f);
+    std::vector<uint8_t> missing(positions.size(), 0);
+    for (int t = 0; t < T; ++t) {
+      for (int v = 0; v < N; ++v) {
+        const size_t from = (static_cast<size_t>(h) * T + t) * N + v,
+                     to = static_cast<size_t>(t) * J * 3 + 3 + v;
+        positions[to] = hist[from];
+        missing[to] = mask[from];
+      }
+    }
+    const Motion motion(skeleton, model.manifest().fps, positions);
+    const std::vector<float> filled = FillMotion(method, model, motion, missing, options);
+    for (int t = 0; t < T; ++t) {
+      const size_t f = static_cast<size_t>(t) * J * 3;
+      for (int v = 0; v < N; ++v)
+        out[(static_cast<size_t>(h) * T + t) * N + v] = filled[f + 3 + v] - filled[f + v % 3];
+    }
+  }
+  return out;
+}
+
+// Forecasting from clean, mean-imputed and HG-VAE-imputed histories of protocol test windows
+// (the HG-VAE's window imputation with the options' steps, 10 where they are 0), and from the
+// same histories filled over the history alone by linear and spline interpolation, rigid limbs and
+// the bundle's refiner (when it has one).
 ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
                                const HgvaeEvalOptions& o) {
   const int T = model.window();
@@ -78,8 +113,19 @@ ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
     const std::vector<uint8_t> mask =
         oc.share > 0 ? RandomOcclusion(H, T * model.coords(), oc.share, o.seed + 99 + s)
                      : JointOcclusion(H, T, J, oc.joints);
-    f.settings.push_back({oc.name, probe.Score(model.MeanImpute(hist, mask)),
-                          probe.Score(model.Impute(hist, mask, o.impute).windows)});
+    ImputeOptions steps = o.impute;
+    if (steps.steps == 0) steps.steps = ImputeOptions{}.steps;
+    RepairedForecast r{oc.name,
+                       probe.Score(model.MeanImpute(hist, mask)),
+                       probe.Score(model.Impute(hist, mask, steps).windows),
+                       {}};
+    for (FillMethod m : {FillMethod::kLinear, FillMethod::kCubicSpline, FillMethod::kRigidLimb,
+                         FillMethod::kRefiner}) {
+      if (m == FillMethod::kRefiner && !model.has_refiner()) continue;
+      r.others.emplace_back(FillMethodName(m),
+                            probe.Score(FillHistories(m, model, hist, mask, H, o.impute)));
+    }
+    f.settings.push_back(std::move(r));
     ReportProgress(o.progress, "forecasting", double(s + 1) / settings.size());
   }
   return f;

@@ -1,6 +1,7 @@
 // The `motionfork hgvae eval` experiment: an HG-VAE's figures on its protocol's test split —
 // likelihood (ELBO, KL per level), imputation against mean imputation, out-of-distribution AUROC
-// and, given a forecaster, the forecasting ADE/FDE from clean, mean-imputed and imputed histories.
+// and, given a forecaster, the forecasting ADE/FDE from clean, mean-imputed, HG-VAE-imputed and
+// interpolated / rigid-limb / refiner-filled histories.
 // Part of the imputation training target: it reads datasets.
 #pragma once
 
@@ -56,7 +57,8 @@ struct HgvaeEvaluation {
   std::vector<GapFigure> gaps;  // the HG-VAE beside the classical fills, over whole clips
   double clean_flagged = 0;     // share of clean windows flagged
   std::vector<OodTest> ood;
-  std::optional<ForecastingFigures> forecasting;  // before: mean-imputed, after: HG-VAE-imputed
+  std::optional<ForecastingFigures> forecasting;  // before: mean-imputed, after: HG-VAE-imputed,
+                                                  // others: linear, spline, rigid limb, refiner
 };
 
 // Test-split windows of the model's length: every window-th start of every test clip, at most

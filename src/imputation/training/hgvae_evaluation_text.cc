@@ -89,7 +89,8 @@ std::string HgvaeEvaluationText(const HgvaeEvaluation& e, const HgvaeModel& mode
     const ForecastingFigures& f = *e.forecasting;
     StringAppendf(&s,
                   "\nforecasting (%s, K = %d, %d test windows, raw network output): ADE / FDE "
-                  "from\n",
+                  "from the histories\n(HG-VAE: window imputation, 10 steps where the options "
+                  "say 0; linear, spline, rigid limb, refiner: filled over the history alone)\n",
                   f.forecaster.c_str(), f.k, f.windows);
     StringAppendf(&s, "  %-12s clean %.3f / %.3f\n", "", f.clean.ade, f.clean.fde);
     s += RepairedForecastsText(f, 12, "mean-imputed", "HG-VAE-imputed");

@@ -1,0 +1,125 @@
+#include "denoise/refiner_blend.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "denoise/denoise_metrics.h"
+
+namespace motionfork {
+
+int RefinerBlendBin(double correction_cm) {
+  int bin = 0;
+  while (bin < kRefinerBlendBins - 1 && correction_cm >= kRefinerBlendEdges[bin]) ++bin;
+  return bin;
+}
+
+std::string RefinerBlendBinName(int bin) {
+  if (bin < 0 || bin >= kRefinerBlendBins)
+    throw std::invalid_argument("RefinerBlendBinName: no bin " + std::to_string(bin));
+  auto text = [](double x) {
+    std::string s = std::to_string(x);
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.') s.pop_back();
+    return s;
+  };
+  const std::string low = bin == 0 ? "0" : text(kRefinerBlendEdges[bin - 1]);
+  return bin == kRefinerBlendBins - 1 ? ">= " + low + " cm"
+                                      : low + "-" + text(kRefinerBlendEdges[bin]) + " cm";
+}
+
+std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
+                                      const std::vector<float>& refined, int joints, int half) {
+  if (input.size() != refined.size() || joints < 1 || input.size() % (3 * joints) != 0) {
+    throw std::invalid_argument("LocalCorrectionCm: expected two motions [T, " +
+                                std::to_string(joints) + ", 3] of the same size");
+  }
+  const size_t F = 3 * static_cast<size_t>(joints), T = input.size() / F;
+  std::vector<double> per_frame(T, 0.0), prefix(T + 1, 0.0);
+  for (size_t t = 0; t < T; ++t) {
+    double sum = 0;
+    for (size_t k = 0; k < F; ++k) {
+      const double d = refined[t * F + k] - input[t * F + k];
+      sum += d * d;
+    }
+    prefix[t + 1] = prefix[t] + sum / joints;  // squared distance per joint, m^2
+  }
+  for (size_t t = 0; t < T; ++t) {
+    const size_t a = t >= static_cast<size_t>(half) ? t - half : 0,
+                 b = std::min(T, t + static_cast<size_t>(half) + 1);
+    per_frame[t] = 100 * std::sqrt((prefix[b] - prefix[a]) / static_cast<double>(b - a));
+  }
+  return per_frame;
+}
+
+std::vector<float> BlendRefined(const std::vector<float>& input, const std::vector<float>& refined,
+                                int joints, const RefinerBlend& blend) {
+  if (blend.weights.empty()) return refined;
+  if (blend.weights.size() != static_cast<size_t>(kRefinerBlendBins)) {
+    throw std::invalid_argument("refiner_blend: expected " + std::to_string(kRefinerBlendBins) +
+                                " weights, got " + std::to_string(blend.weights.size()));
+  }
+  const std::vector<double> size = LocalCorrectionCm(input, refined, joints);
+  const std::vector<float> base =
+      blend.sigma > 0 ? GaussianSmooth(input, joints, blend.sigma) : input;
+  const size_t F = 3 * static_cast<size_t>(joints);
+  std::vector<float> out(input.size());
+  for (size_t t = 0; t < size.size(); ++t) {
+    const double w = blend.weights[RefinerBlendBin(size[t])];
+    for (size_t k = t * F; k < (t + 1) * F; ++k)
+      out[k] = static_cast<float>(base[k] + w * (refined[k] - base[k]));
+  }
+  return out;
+}
+
+RefinerBlendFit::RefinerBlendFit(double sigma)
+    : sigma_(sigma),
+      ee_(kRefinerBlendBins, 0.0),
+      ce_(kRefinerBlendBins, 0.0),
+      cc_(kRefinerBlendBins, 0.0) {}
+
+void RefinerBlendFit::AddSetting(const std::vector<std::vector<float>>& inputs,
+                                 const std::vector<std::vector<float>>& refined,
+                                 const std::vector<std::vector<float>>& clean, int joints) {
+  std::vector<double> ee(kRefinerBlendBins, 0.0), ce = ee, cc = ee;
+  double values = 0;
+  const size_t F = 3 * static_cast<size_t>(joints);
+  for (size_t m = 0; m < inputs.size(); ++m) {
+    const std::vector<double> size = LocalCorrectionCm(inputs[m], refined[m], joints);
+    const std::vector<float> base =
+        sigma_ > 0 ? GaussianSmooth(inputs[m], joints, sigma_) : inputs[m];
+    for (size_t t = 0; t < size.size(); ++t) {
+      const int bin = RefinerBlendBin(size[t]);
+      for (size_t k = t * F; k < (t + 1) * F; ++k) {
+        const double c = refined[m][k] - base[k], e = clean[m][k] - base[k];
+        ee[bin] += e * e;
+        ce[bin] += c * e;
+        cc[bin] += c * c;
+      }
+    }
+    values += static_cast<double>(inputs[m].size());
+  }
+  if (values == 0) return;
+  for (int b = 0; b < kRefinerBlendBins; ++b) {
+    ee_[b] += ee[b] / values;
+    ce_[b] += ce[b] / values;
+    cc_[b] += cc[b] / values;
+  }
+}
+
+RefinerBlend RefinerBlendFit::Blend() const {
+  RefinerBlend blend{sigma_, std::vector<double>(kRefinerBlendBins, 1.0)};
+  for (int b = 0; b < kRefinerBlendBins; ++b)
+    if (cc_[b] > 0) blend.weights[b] = std::clamp(ce_[b] / cc_[b], 0.0, 1.0);
+  return blend;
+}
+
+double RefinerBlendFit::Error() const {
+  const std::vector<double> w = Blend().weights;
+  double error = 0;
+  for (int b = 0; b < kRefinerBlendBins; ++b)
+    error += ee_[b] - 2 * w[b] * ce_[b] + w[b] * w[b] * cc_[b];
+  return error;
+}
+
+}  // namespace motionfork
