@@ -22,7 +22,6 @@ namespace motionfork {
 struct DvaeData {
   int joints = 0;
   std::vector<std::vector<float>> train, held_out;  // per clip [T, J, 3], metres
-  int history = 0;                                  // the protocol's history frames (t_his)
 
   // Frames of the training clips (held-out ones not counted).
   long long train_frames() const;
