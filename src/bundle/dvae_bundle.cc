@@ -197,17 +197,19 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
     if (m.denoise.mode == DenoiseMode::kRefiner && !m.refiner.enabled())
       Fail(path, root, "denoise.mode is refiner, but the bundle has no refiner");
     if (const YAML::Node b = root["refiner_blend"]) {
-      if (!b.IsMap()) Fail(path, b, "refiner_blend: expected a mapping {sigma, weights}");
-      CheckKeys(path, b, "refiner_blend", {"sigma", "weights"});
+      if (!b.IsMap()) Fail(path, b, "refiner_blend: expected a mapping {sigma, weights, smooth}");
+      CheckKeys(path, b, "refiner_blend", {"sigma", "weights", "smooth"});
       RefinerBlend& blend = m.refiner_blend;
       blend.sigma = Get<double>(path, b, "sigma");
       blend.weights = Get<std::vector<double>>(path, b, "weights");
+      blend.smooth = GetOr<double>(path, b, "smooth", 0.0);
       bool valid = m.refiner.enabled() && blend.weights.size() == size_t{kRefinerBlendBins} &&
-                   std::isfinite(blend.sigma) && blend.sigma >= 0 && blend.sigma <= 100;
+                   std::isfinite(blend.sigma) && blend.sigma >= 0 && blend.sigma <= 100 &&
+                   std::isfinite(blend.smooth) && blend.smooth >= 0 && blend.smooth <= 100;
       for (double w : blend.weights) valid = valid && std::isfinite(w) && w >= 0 && w <= 1;
       if (!valid) {
         Fail(path, b,
-             "refiner_blend: expected sigma in [0, 100] frames, " +
+             "refiner_blend: expected sigma and smooth in [0, 100] frames, " +
                  std::to_string(kRefinerBlendBins) + " weights in [0, 1] and a refiner, found " +
                  std::to_string(blend.weights.size()) + " weights" +
                  (m.refiner.enabled() ? "" : " and no refiner"));
@@ -231,7 +233,11 @@ std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& che
         if (!m.refiner_blend.weights.empty()) {
           out << YAML::Key << "refiner_blend" << YAML::Value << YAML::BeginMap << YAML::Key
               << "sigma" << YAML::Value << m.refiner_blend.sigma << YAML::Key << "weights"
-              << YAML::Value << YAML::Flow << m.refiner_blend.weights << YAML::EndMap;
+              << YAML::Value << YAML::Flow << m.refiner_blend.weights;
+          // Only when set: bundles from before it re-emit as written.
+          if (m.refiner_blend.smooth > 0)
+            out << YAML::Key << "smooth" << YAML::Value << m.refiner_blend.smooth;
+          out << YAML::EndMap;
         }
       });
 }

@@ -78,20 +78,30 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
     Fail(file, n, "impute: expected steps >= 0 and learning_rate > 0");
 }
 
-// refiner_weights: [kRefinerGapBuckets numbers >= 0] (absent: none), only with a refiner.
-void ParseRefinerWeights(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
-  const YAML::Node n = root["refiner_weights"];
-  if (!n) return;
-  m->refiner_weights = Get<std::vector<double>>(file, root, "refiner_weights");
-  bool valid = m->refiner.enabled() && m->refiner_weights.size() == size_t{kRefinerGapBuckets};
-  for (double w : m->refiner_weights) valid = valid && std::isfinite(w) && w >= 0;
-  if (!valid) {
-    Fail(file, n,
-         "refiner_weights: expected " + std::to_string(kRefinerGapBuckets) +
-             " finite numbers >= 0 and a refiner, found " +
-             std::to_string(m->refiner_weights.size()) + " numbers" +
-             (m->refiner.enabled() ? "" : " and no refiner"));
+// refiner_weights and refiner_local_weights: [kRefinerGapBuckets finite numbers] (absent: none;
+// the first >= 0), refiner_keep_bones: a bool (absent: false); only with a refiner.
+void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
+  for (const char* key : {"refiner_weights", "refiner_local_weights", "refiner_keep_bones"}) {
+    if (root[key] && !m->refiner.enabled())
+      Fail(file, root[key], std::string(key) + ": expected a refiner, found none");
   }
+  auto weights = [&](const char* key, bool nonnegative, std::vector<double>* out) {
+    const YAML::Node n = root[key];
+    if (!n) return;
+    *out = Get<std::vector<double>>(file, root, key);
+    bool valid = out->size() == size_t{kRefinerGapBuckets};
+    for (double w : *out) valid = valid && std::isfinite(w) && (!nonnegative || w >= 0);
+    if (!valid) {
+      Fail(file, n,
+           std::string(key) + ": expected " + std::to_string(kRefinerGapBuckets) +
+               " finite numbers" + (nonnegative ? " >= 0" : "") + ", found " +
+               std::to_string(out->size()) + " numbers");
+    }
+  };
+  weights("refiner_weights", true, &m->refiner_weights);
+  weights("refiner_local_weights", false, &m->refiner_local_weights);
+  if (root["refiner_keep_bones"])
+    m->refiner_keep_bones = Get<bool>(file, root, "refiner_keep_bones");
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
@@ -202,7 +212,7 @@ HgvaeManifest LoadHgvaeManifest(const std::string& path, BundleChecksums* checks
     ParseManifestRefiner(path, root, &m.refiner);
     if (m.impute.start == ImputeStart::kRefiner && !m.refiner.enabled())
       Fail(path, root, "impute.start is refiner, but the bundle has no refiner");
-    ParseRefinerWeights(path, root, &m);
+    ParseRefinerCalibration(path, root, &m);
     m.info = ParseManifestInfo(root);
     return m;
   });
@@ -220,6 +230,11 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
         if (!m.refiner_weights.empty()) {
           out << YAML::Key << "refiner_weights" << YAML::Value << YAML::Flow << m.refiner_weights;
         }
+        if (!m.refiner_local_weights.empty()) {
+          out << YAML::Key << "refiner_local_weights" << YAML::Value << YAML::Flow
+              << m.refiner_local_weights;
+        }
+        if (m.refiner_keep_bones) out << YAML::Key << "refiner_keep_bones" << YAML::Value << true;
       });
 }
 
@@ -236,6 +251,8 @@ std::string HgvaeSignature(const HgvaeManifest& m) {
   s.score_mean = defaults.score_mean;
   s.score_std = defaults.score_std;
   s.refiner_weights.clear();
+  s.refiner_local_weights.clear();
+  s.refiner_keep_bones = false;
   s.info.clear();
   return FormatHgvaeManifest(s);
 }

@@ -52,6 +52,22 @@ std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
   return per_frame;
 }
 
+std::vector<float> SmoothWhereNoisy(const std::vector<float>& motion,
+                                    const std::vector<double>& correction_cm, int joints,
+                                    double sigma) {
+  if (!(sigma > 0)) return motion;
+  const std::vector<float> smooth = GaussianSmooth(motion, joints, sigma);
+  const size_t F = 3 * static_cast<size_t>(joints);
+  std::vector<float> out = motion;
+  for (size_t t = 0; t < correction_cm.size(); ++t) {
+    const double v =
+        std::clamp((correction_cm[t] - kSmoothFromCm) / (kSmoothFullCm - kSmoothFromCm), 0.0, 1.0);
+    for (size_t k = t * F; k < (t + 1) * F; ++k)
+      out[k] = static_cast<float>(out[k] + v * (smooth[k] - out[k]));
+  }
+  return out;
+}
+
 std::vector<float> BlendRefined(const std::vector<float>& input, const std::vector<float>& refined,
                                 int joints, const RefinerBlend& blend) {
   if (blend.weights.empty()) return refined;
@@ -60,8 +76,7 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
                                 " weights, got " + std::to_string(blend.weights.size()));
   }
   const std::vector<double> size = LocalCorrectionCm(input, refined, joints);
-  const std::vector<float> base =
-      blend.sigma > 0 ? GaussianSmooth(input, joints, blend.sigma) : input;
+  const std::vector<float> base = SmoothWhereNoisy(input, size, joints, blend.sigma);
   const size_t F = 3 * static_cast<size_t>(joints);
   std::vector<float> out(input.size());
   for (size_t t = 0; t < size.size(); ++t) {
@@ -69,7 +84,7 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
     for (size_t k = t * F; k < (t + 1) * F; ++k)
       out[k] = static_cast<float>(base[k] + w * (refined[k] - base[k]));
   }
-  return out;
+  return SmoothWhereNoisy(out, size, joints, blend.smooth);
 }
 
 RefinerBlendFit::RefinerBlendFit(double sigma)
@@ -86,8 +101,7 @@ void RefinerBlendFit::AddSetting(const std::vector<std::vector<float>>& inputs,
   const size_t F = 3 * static_cast<size_t>(joints);
   for (size_t m = 0; m < inputs.size(); ++m) {
     const std::vector<double> size = LocalCorrectionCm(inputs[m], refined[m], joints);
-    const std::vector<float> base =
-        sigma_ > 0 ? GaussianSmooth(inputs[m], joints, sigma_) : inputs[m];
+    const std::vector<float> base = SmoothWhereNoisy(inputs[m], size, joints, sigma_);
     for (size_t t = 0; t < size.size(); ++t) {
       const int bin = RefinerBlendBin(size[t]);
       for (size_t k = t * F; k < (t + 1) * F; ++k) {

@@ -293,16 +293,17 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) co
   torch::NoGradGuard no_grad;
   const torch::Tensor in = im.tensors->RefinerInput(f)[0];
   const RefinerOptions& r = im.manifest.refiner;
-  torch::Tensor weights;
-  if (calibrated && !im.manifest.refiner_weights.empty()) {
-    const std::vector<float> w = RefinerValueWeights(f, im.manifest.refiner_weights);
-    weights = torch::tensor(w).view({f.frames, f.coords});
-  }
   const torch::Tensor corrected =
-      im.tensors->Refined(in, RefineInWindows(im.net->refiner, in, r.window, r.stride), weights);
+      im.tensors->Refined(in, RefineInWindows(im.net->refiner, in, r.window, r.stride));
   const torch::Tensor metres =
       im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
-  return std::vector<float>(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());
+  std::vector<float> refined(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());
+  const HgvaeManifest& m = im.manifest;
+  if (!calibrated ||
+      (m.refiner_weights.empty() && m.refiner_local_weights.empty() && !m.refiner_keep_bones))
+    return refined;
+  return BlendRefinerFills(skeleton(), f, refined,
+                           {m.refiner_weights, m.refiner_local_weights, m.refiner_keep_bones});
 }
 
 }  // namespace motionfork

@@ -74,8 +74,10 @@ class HgvaeModel {
                       const std::vector<float>* start = nullptr) const;
   // The imputation refiner's fill of a whole motion (root-relative [T, N], metres; every value,
   // observed ones included): the spline's values corrected by the refiner, in windows of its
-  // length blended, each value's correction scaled by the bundle's calibration (refiner_weights;
-  // `calibrated` false: not). Throws std::invalid_argument when the bundle has no refiner.
+  // length blended, then put together with the spline and the local polynomial as the bundle's
+  // calibration says (BlendRefinerFills with refiner_weights, refiner_local_weights and
+  // refiner_keep_bones; `calibrated` false: the refiner's output as it is). Throws
+  // std::invalid_argument when the bundle has no refiner.
   std::vector<float> Refine(const RefinerFills& fills, bool calibrated = true) const;
   bool has_refiner() const;
 

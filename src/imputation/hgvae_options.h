@@ -142,6 +142,10 @@ struct HgvaeManifest {
   // The refiner's correction per bucket of missing values (refiner_fills.h, kRefinerGapBuckets;
   // fitted on held-out clips by `motionfork hgvae calibrate`); empty: 1 everywhere.
   std::vector<double> refiner_weights;
+  // How much of the local polynomial's departure from the spline to add per bucket (empty: none),
+  // and whether to keep the rigid bones at their observed lengths (ImputationBlend).
+  std::vector<double> refiner_local_weights;
+  bool refiner_keep_bones = false;
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

@@ -61,14 +61,13 @@ torch::Tensor HgvaeTensors::RefinerPart(const torch::Tensor& in, RefinerChannels
   return in.slice(-1, k * coords_, (k + 1) * coords_);
 }
 
-torch::Tensor HgvaeTensors::Refined(const torch::Tensor& in, const torch::Tensor& correction,
-                                    const torch::Tensor& weights) const {
+torch::Tensor HgvaeTensors::Refined(const torch::Tensor& in,
+                                    const torch::Tensor& correction) const {
   const torch::Tensor d = torch::minimum(RefinerPart(in, RefinerChannels::kBefore),
                                          RefinerPart(in, RefinerChannels::kAfter)) *
                           kRefinerGapCap;
   const torch::Tensor gate = d.pow(2) / (d.pow(2) + kRefinerGateFrames * kRefinerGateFrames);
-  return RefinerPart(in, RefinerChannels::kSpline) +
-         (weights.defined() ? gate * weights : gate) * correction;
+  return RefinerPart(in, RefinerChannels::kSpline) + gate * correction;
 }
 
 }  // namespace motionfork

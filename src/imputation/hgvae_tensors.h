@@ -32,10 +32,8 @@ class HgvaeTensors {
   // The refined values [.., T, N] (normalised) from the input above and the refiner's correction:
   // spline + gate * correction, the gate d^2 / (d^2 + g^2) of the distance d to the nearest
   // observed frame (g = kRefinerGateFrames): the spline is kept where the frames beside a gap pin
-  // it down, the correction counts fully in long gaps. weights (defined: the shape of correction)
-  // scale the gated correction per value (the bundle's calibration, RefinerValueWeights).
-  torch::Tensor Refined(const torch::Tensor& input, const torch::Tensor& correction,
-                        const torch::Tensor& weights = {}) const;
+  // it down, the correction counts fully in long gaps.
+  torch::Tensor Refined(const torch::Tensor& input, const torch::Tensor& correction) const;
   // [B, T, N] normalised <-> metres, frame-major.
   torch::Tensor NormaliseFrameMajor(const float* values, int64_t count, int64_t frames) const;
   torch::Tensor DenormaliseFrameMajor(const torch::Tensor& x) const;

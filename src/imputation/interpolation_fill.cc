@@ -28,6 +28,33 @@ int CheckedFrames(const std::vector<float>& p, const std::vector<uint8_t>& missi
                               "training mean) to fill it");
 }
 
+// Interpolation::kLocalPolynomial over the short gaps between the observed frames `at` of y.
+void FillShortGapsByPolynomial(std::vector<double>* series, const std::vector<int>& at) {
+  std::vector<double>& y = *series;
+  const int n = static_cast<int>(at.size());
+  std::vector<int> nodes;
+  for (int i = 0; i + 1 < n; ++i) {
+    const int a = at[i], b = at[i + 1];
+    if (b - a - 1 < 1 || b - a - 1 > kLocalGapFrames) continue;
+    nodes.clear();
+    for (int k = i; k >= 0 && k > i - kLocalNodes && a - at[k] <= kLocalReach; --k)
+      nodes.push_back(at[k]);
+    for (int k = i + 1; k < n && k <= i + kLocalNodes && at[k] - b <= kLocalReach; ++k)
+      nodes.push_back(at[k]);
+    for (int t = a + 1; t < b; ++t) {  // Lagrange's form
+      double value = 0;
+      for (int p : nodes) {
+        double w = 1;
+        for (int q : nodes) {
+          if (q != p) w *= double(t - q) / double(p - q);
+        }
+        value += w * y[p];
+      }
+      y[t] = value;
+    }
+  }
+}
+
 // Fills series[t] where !known[t] from the known frames (at least one), in place.
 void FillSeries(std::vector<double>* series, const std::vector<char>& known, Interpolation kind) {
   std::vector<double>& y = *series;
@@ -67,6 +94,7 @@ void FillSeries(std::vector<double>* series, const std::vector<char>& known, Int
              ((u * u * u - u) * m[i] + (v * v * v - v) * m[i + 1]) * h[i] * h[i] / 6.0;
     }
   }
+  if (kind == Interpolation::kLocalPolynomial) FillShortGapsByPolynomial(&y, at);
 }
 
 }  // namespace

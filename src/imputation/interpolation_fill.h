@@ -19,7 +19,13 @@ namespace motionfork {
 enum class Interpolation {
   kLinear,       // straight lines between the observed frames around a gap
   kCubicSpline,  // a natural cubic spline through every observed frame of the coordinate
+  // Gaps of at most kLocalGapFrames: the polynomial through the observed frames within
+  // kLocalReach frames of the gap's edges (at most kLocalNodes on each side; degree up to 7),
+  // which follows a smooth motion more closely than the spline over short gaps; longer gaps and the
+  // ends as kCubicSpline.
+  kLocalPolynomial,
 };
+constexpr int kLocalGapFrames = 4, kLocalNodes = 4, kLocalReach = 6;
 
 // Each missing value from the observed frames of its coordinate; before the first and after the
 // last observed frame, the nearest observed value. Throws std::invalid_argument for mismatched

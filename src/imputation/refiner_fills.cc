@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "imputation/bone_lengths.h"
 #include "imputation/interpolation_fill.h"
 
 namespace motionfork {
@@ -112,12 +113,47 @@ std::vector<float> RefinerValueWeights(const RefinerFills& f, const std::vector<
   return w;
 }
 
+std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFills& f,
+                                     const std::vector<float>& refined,
+                                     const ImputationBlend& blend) {
+  const size_t N = static_cast<size_t>(f.coords), T = static_cast<size_t>(f.frames);
+  if (refined.size() != T * N || f.spline.size() != T * N || f.local.size() != T * N ||
+      static_cast<size_t>(3 * (skeleton.num_joints() - 1)) != N) {
+    throw std::invalid_argument("BlendRefinerFills: expected one window of " + std::to_string(T) +
+                                " x " + std::to_string(N) + " values on the skeleton's " +
+                                std::to_string(skeleton.num_joints()) + " joints, got " +
+                                std::to_string(refined.size()));
+  }
+  const std::vector<float> a = RefinerValueWeights(f, blend.refiner);
+  const std::vector<float> b = blend.local.empty() ? std::vector<float>(a.size(), 0.0f)
+                                                   : RefinerValueWeights(f, blend.local);
+  std::vector<float> out = refined;
+  for (size_t i = 0; i < out.size(); ++i) {
+    if (f.mask[i])
+      out[i] = f.spline[i] + a[i] * (refined[i] - f.spline[i]) + b[i] * (f.local[i] - f.spline[i]);
+  }
+  if (!blend.keep_bones) return out;
+  // The root at the origin, observed in every frame.
+  const size_t F = N + 3;
+  std::vector<float> positions(T * F, 0.0f);
+  std::vector<uint8_t> missing(T * F, 0);
+  for (size_t t = 0; t < T; ++t) {
+    std::copy(out.begin() + t * N, out.begin() + (t + 1) * N, positions.begin() + t * F + 3);
+    std::copy(f.mask.begin() + t * N, f.mask.begin() + (t + 1) * N, missing.begin() + t * F + 3);
+  }
+  const std::vector<float> kept = KeepBoneLengths(skeleton, positions, missing);
+  for (size_t t = 0; t < T; ++t)
+    std::copy(kept.begin() + t * F + 3, kept.begin() + (t + 1) * F, out.begin() + t * N);
+  return out;
+}
+
 void AppendRefinerFills(const RefinerFills& f, RefinerFills* all) {
   all->frames = f.frames;
   all->coords = f.coords;
   all->spline.insert(all->spline.end(), f.spline.begin(), f.spline.end());
   all->linear.insert(all->linear.end(), f.linear.begin(), f.linear.end());
   all->rigid.insert(all->rigid.end(), f.rigid.begin(), f.rigid.end());
+  all->local.insert(all->local.end(), f.local.begin(), f.local.end());
   all->mask.insert(all->mask.end(), f.mask.begin(), f.mask.end());
   all->before.insert(all->before.end(), f.before.begin(), f.before.end());
   all->after.insert(all->after.end(), f.after.begin(), f.after.end());
@@ -136,6 +172,8 @@ RefinerFills MakeRefinerFills(const Skeleton& skeleton, const std::vector<float>
   f.linear = RootRelative(
       InterpolateMissing(positions, missing, J, Interpolation::kLinear, fallback), T, J);
   f.rigid = RootRelative(RigidLimbFill(skeleton, positions, missing, fallback), T, J);
+  f.local = RootRelative(
+      InterpolateMissing(positions, missing, J, Interpolation::kLocalPolynomial, fallback), T, J);
   f.mask.resize(static_cast<size_t>(T) * N);
   for (int t = 0; t < T; ++t) {
     for (int v = 0; v < N; ++v)

@@ -24,6 +24,7 @@ struct RefinerFills {
   int frames = 0;                            // per window
   int coords = 0;                            // N
   std::vector<float> spline, linear, rigid;  // [T, N], metres, root-relative
+  std::vector<float> local;                  // [T, N], Interpolation::kLocalPolynomial (no input)
   std::vector<uint8_t> mask;                 // [T, N], 1 = missing
   std::vector<float> before, after;          // [T, N], frames to the nearest observed value
 };
@@ -48,6 +49,22 @@ std::vector<float> RefinerValueWeights(const RefinerFills& f, const std::vector<
 float RefinerEdgeSpeed(const RefinerFills& f, size_t row, int coord);
 // Each value's bucket as above ([T, N] per window; -1 where observed).
 std::vector<int> RefinerGapBuckets(const RefinerFills& f);
+
+// How the calibrated output is put together from the spline, the refiner's output and the local
+// polynomial (HgvaeManifest's refiner_weights, refiner_local_weights, refiner_keep_bones): each
+// missing value is spline + a (refined - spline) + b (local - spline) with a and b its bucket's
+// weights, then, with keep_bones, the rigid bones of every frame are kept at the lengths
+// observed in the motion (bone_lengths.h).
+struct ImputationBlend {
+  std::vector<double> refiner;  // a per bucket [kRefinerGapBuckets]; empty: 1 everywhere
+  std::vector<double> local;    // b per bucket; empty: 0 everywhere
+  bool keep_bones = false;
+};
+// f holds one window (f.frames rows); refined: the refiner's output for it, [T, N] metres
+// root-relative. Returns the blended [T, N] (observed values as refined holds them).
+std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFills& f,
+                                     const std::vector<float>& refined,
+                                     const ImputationBlend& blend);
 
 // Appends `f`'s window to `all` (the same number of frames in each).
 void AppendRefinerFills(const RefinerFills& f, RefinerFills* all);

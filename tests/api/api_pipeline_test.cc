@@ -80,7 +80,7 @@ TEST_CASE(
   CHECK(p.seed == 9);
   CHECK(p.fixed_parts == std::vector<std::string>{"legs"});
   CHECK(p.skeleton->joint_names() == model.joint_names());
-  REQUIRE(p.positions.size() == 4 * (f.history_frames + f.frames) * 17 * 3);
+  REQUIRE(p.positions.size() == static_cast<size_t>(4 * (f.history_frames + f.frames) * 17 * 3));
   for (int k = 0; k < 4; ++k) {
     const std::vector<float> s = f.Sequence(k);
     CHECK(std::equal(s.begin(), s.end(), p.sample(k)));

@@ -158,3 +158,29 @@ TEST_CASE("refiner blend: bins of the local correction size, the blend, least-sq
   CHECK(weights[RefinerBlendBin(100 * std::sqrt(3 * 0.0025))] == 1.0);    // 8.7 cm: noisy
   CHECK(weights[1] == 1.0);                                               // no data
 }
+
+TEST_CASE("refiner blend: smoothing only where the correction says the input was noisy") {
+  // One joint, 60 frames of frame-to-frame zigzag; local correction 0 cm in frames 0-19, ramping
+  // 0.5 -> 1 cm over 20-39 (0.75 cm at 30) and 2 cm from 40 on.
+  const int J = 1, T = 60;
+  std::vector<float> zigzag(T * 3);
+  for (int t = 0; t < T; ++t)
+    for (int a = 0; a < 3; ++a) zigzag[t * 3 + a] = (t % 2 ? 0.01f : -0.01f);
+  std::vector<double> size(T, 0.0);
+  for (int t = 20; t < 40; ++t) size[t] = 0.5 + 0.5 * (t - 20) / 20.0;
+  for (int t = 40; t < T; ++t) size[t] = 2.0;
+  const std::vector<float> out = SmoothWhereNoisy(zigzag, size, J, 1.0);
+  const std::vector<float> smooth = GaussianSmooth(zigzag, J, 1.0);
+  CHECK(out[10 * 3] == zigzag[10 * 3]);                       // clean: untouched
+  CHECK(out[50 * 3] == Approx(smooth[50 * 3]).margin(1e-7));  // noisy: smoothed
+  CHECK(out[30 * 3] == Approx(0.5 * (zigzag[30 * 3] + smooth[30 * 3])).margin(1e-7));  // halfway
+  CHECK(SmoothWhereNoisy(zigzag, size, J, 0) == zigzag);
+  // In the blend: output smoothing where noisy lowers the acceleration; a clean frame keeps it.
+  const std::vector<float> refined(zigzag.size(), 0.0f);
+  RefinerBlend blend{0, std::vector<double>(kRefinerBlendBins, 0.0)};  // keep the input
+  const std::vector<float> kept = BlendRefined(zigzag, refined, J, blend);
+  blend.smooth = 1.0;
+  const std::vector<float> smoothed = BlendRefined(zigzag, refined, J, blend);
+  CHECK(kept == zigzag);
+  CHECK(MeanAcceleration(smoothed, J, 30) < 0.5 * MeanAcceleration(kept, J, 30));  // every frame
+}

@@ -227,6 +227,15 @@ TEST_CASE(
   REQUIRE(model.manifest().refiner_blend.weights.size() == static_cast<size_t>(kRefinerBlendBins));
   CHECK(model.manifest().refiner_blend.weights == s.refiner_blend.weights);
   CHECK(model.manifest().refiner_blend.sigma == s.refiner_blend.sigma);
+  CHECK(model.manifest().refiner_blend.smooth == s.refiner_blend.smooth);
+  {  // the output smoothing round-trips; absent, it is 0
+    DvaeManifest m2 = model.manifest();
+    m2.refiner_blend.smooth = 0.75;
+    std::ofstream(tmp.file("smooth.yaml")) << FormatDvaeManifest(m2);
+    CHECK(LoadDvaeManifest(tmp.file("smooth.yaml")).refiner_blend.smooth == 0.75);
+    m2.refiner_blend.smooth = 0;
+    CHECK(FormatDvaeManifest(m2).find("smooth:") == std::string::npos);
+  }
   DenoiseOptions raw = o;
   raw.refiner_blend = false;
   const Motion r = DenoiseMotion(model, noisy, raw);

@@ -218,29 +218,37 @@ TEST_CASE(
   // Resuming a finished run trains nothing more and keeps the bundle.
   CHECK(RefineHgvae(cfg, dir.file("m"), data, dir.file("r"), {}).epochs_done == 0);
 
-  // Calibration on the held-out clips: per bucket the least-squares weight in [0, 1], so the
-  // summed relative error is at most the refiner's and the spline's (weights 1 and 0).
+  // Calibration on the held-out clips: per bucket the least-squares weights in [0, 1], so the
+  // summed relative error is at most the refiner's and the spline's (weights 1, 0 and 0, 0).
   CHECK_THROWS_AS(CalibrateHgvaeBundle(dir.file("r"), data.held_out.poses, 1, dir.file("r")),
                   std::invalid_argument);  // never over its input
   const RefinerCalibration c =
       CalibrateHgvaeBundle(dir.file("r"), data.held_out.poses, 1, dir.file("c"));
-  REQUIRE(c.weights.size() == static_cast<size_t>(kRefinerGapBuckets));
+  REQUIRE(c.blend.refiner.size() == static_cast<size_t>(kRefinerGapBuckets));
+  REQUIRE(c.blend.local.size() == static_cast<size_t>(kRefinerGapBuckets));
   REQUIRE_FALSE(c.settings.empty());
-  double spline = 0, refiner = 0, calibrated = 0;
+  double spline = 0, refiner = 0, calibrated = 0, bones = 0;
   for (const RefinerCalibration::Setting& x : c.settings) {
     spline += 1;
     refiner += std::pow(x.refiner_cm / x.spline_cm, 2);
     calibrated += std::pow(x.calibrated_cm / x.spline_cm, 2);
+    bones += std::pow(x.kept_cm / x.spline_cm, 2);
   }
   CHECK(calibrated <= refiner + 1e-9);
   CHECK(calibrated <= spline + 1e-9);
-  for (double w : c.weights) CHECK((w >= 0 && w <= 1));
+  CHECK(c.blend.keep_bones == (bones < calibrated));
+  for (double w : c.blend.refiner) CHECK((w >= 0 && w <= 1));
+  for (double w : c.blend.local) CHECK((w >= 0 && w <= 1));
   HgvaeManifest cm;
   HgvaeNet net = LoadHgvaeBundle(dir.file("c"), &cm);
-  CHECK(cm.refiner_weights == c.weights);
+  CHECK(cm.refiner_weights == c.blend.refiner);
+  CHECK(cm.refiner_local_weights == c.blend.local);
+  CHECK(cm.refiner_keep_bones == c.blend.keep_bones);
   CHECK(RefinerCalibrationText(c, "OUT").find("gap 1, slow, sparse") != std::string::npos);
   // Weights 0 keep the spline exactly; the uncalibrated refiner ignores them.
   cm.refiner_weights.assign(kRefinerGapBuckets, 0.0);
+  cm.refiner_local_weights.assign(kRefinerGapBuckets, 0.0);
+  cm.refiner_keep_bones = false;
   const HgvaeModel zero = HgvaeModel::FromNet(cm, net);
   const std::vector<uint8_t> mask = GapMask({"arm gap", 0, {11, 12, 13}, 12}, 50, 17, 5);
   const RefinerFills f =
@@ -248,6 +256,20 @@ TEST_CASE(
   const std::vector<float> kept = zero.Refine(f);
   for (size_t i = 0; i < kept.size(); ++i) REQUIRE(kept[i] == Approx(f.spline[i]).margin(1e-6));
   CHECK(zero.Refine(f, false) == model.Refine(f));
+  // Local weights 1 (and refiner weights 0): the local polynomial; the keys round-trip.
+  cm.refiner_local_weights.assign(kRefinerGapBuckets, 1.0);
+  cm.refiner_keep_bones = true;
+  const std::vector<float> local = HgvaeModel::FromNet(cm, net).Refine(f);
+  HgvaeManifest again;
+  {
+    std::ofstream(dir.file("again.yaml")) << FormatHgvaeManifest(cm);
+    again = LoadHgvaeManifest(dir.file("again.yaml"));
+  }
+  CHECK(again.refiner_local_weights == cm.refiner_local_weights);
+  CHECK(again.refiner_keep_bones);
+  double moved = 0;
+  for (size_t i = 0; i < local.size(); ++i) moved += std::abs(local[i] - f.spline[i]);
+  CHECK(moved > 0);
   // A bundle whose weights are not one per bucket is refused, naming the key.
   std::string text = FormatHgvaeManifest(cm);
   text.replace(text.find("refiner_weights: ["), 18, "refiner_weights: [1, ");

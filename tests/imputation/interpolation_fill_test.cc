@@ -214,3 +214,35 @@ TEST_CASE("the refiner's calibration buckets: gap length x edge speed x a crowde
   CHECK(RefinerValueWeights(f, {})[4 * N + v] == 0.0f);
   CHECK_THROWS_AS(RefinerValueWeights(f, {1.0, 2.0}), std::invalid_argument);
 }
+
+TEST_CASE(
+    "the local polynomial fills short gaps of a smooth motion exactly, long ones as the spline") {
+  // One joint besides the root, moving along a degree-5 polynomial in time (exact for degree <= 7).
+  const int T = 40, J = 2;
+  auto curve = [](int t) {
+    const double u = (t - 20) / 20.0;
+    return 0.3 * u + 0.2 * u * u - 0.4 * u * u * u + 0.1 * std::pow(u, 5);
+  };
+  std::vector<float> p;
+  for (int t = 0; t < T; ++t)
+    p.insert(p.end(), {0, 0, 0, float(curve(t)), float(0.5 * curve(t)), 0.1f});
+  std::vector<uint8_t> mask(p.size(), 0);
+  Hide(&mask, J, 1, 10, 12);  // 3 frames: the polynomial
+  Hide(&mask, J, 1, 20, 29);  // 10 frames: the spline
+  const std::vector<float> local = InterpolateMissing(p, mask, J, Interpolation::kLocalPolynomial);
+  const std::vector<float> spline = InterpolateMissing(p, mask, J, Interpolation::kCubicSpline);
+  for (int t = 10; t <= 12; ++t) {
+    const size_t i = (t * J + 1) * 3;
+    CHECK(local[i] == Approx(p[i]).margin(1e-6));
+    CHECK(local[i + 1] == Approx(p[i + 1]).margin(1e-6));
+    CHECK(std::abs(spline[i] - p[i]) > 1e-6);  // the spline only comes close
+  }
+  for (int t = 20; t <= 29; ++t) CHECK(local[(t * J + 1) * 3] == spline[(t * J + 1) * 3]);
+  for (size_t i = 0; i < p.size(); ++i)
+    if (!mask[i]) CHECK(local[i] == p[i]);
+  // A gap near the start: fewer frames on one side, still exact for a low degree.
+  std::vector<uint8_t> early(p.size(), 0);
+  Hide(&early, J, 1, 1, 2);
+  const std::vector<float> e = InterpolateMissing(p, early, J, Interpolation::kLocalPolynomial);
+  CHECK(e[(1 * J + 1) * 3] == Approx(p[(1 * J + 1) * 3]).margin(1e-5));
+}

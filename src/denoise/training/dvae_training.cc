@@ -15,6 +15,7 @@
 #include "bundle/manifest.h"
 #include "core/motion_noise.h"
 #include "dataset/windows.h"
+#include "denoise/denoise_metrics.h"
 #include "denoise/dvae_objective.h"
 #include "denoise/dvae_windows.h"
 #include "denoise/refiner_blend.h"
@@ -489,6 +490,30 @@ RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint6
     if (fit.Error() < least) {
       least = fit.Error();
       best = fit.Blend();
+    }
+  }
+  // The output smoothing whose noisy outputs move most like the clean motion: the least sum over
+  // the noisy kinds of log(acceleration / the clean clips')^2.
+  double clean_accel = 0;
+  for (const auto& q : data.held_out) clean_accel += MeanAcceleration(q, data.joints, 1.0);
+  double closest = INFINITY;
+  const double chosen_sigma = best.sigma;
+  const std::vector<double> chosen_weights = best.weights;
+  for (double smooth : {0.0, 0.5, 0.75, 1.0, 1.5}) {
+    const RefinerBlend candidate{chosen_sigma, chosen_weights, smooth};
+    double misfit = 0;
+    for (size_t k = 0; k < kinds.size(); ++k) {
+      if (kinds[k].empty()) continue;
+      double accel = 0;
+      for (size_t q = 0; q < inputs[k].size(); ++q) {
+        accel += MeanAcceleration(BlendRefined(inputs[k][q], refined[k][q], data.joints, candidate),
+                                  data.joints, 1.0);
+      }
+      misfit += std::pow(std::log(accel / clean_accel), 2);
+    }
+    if (misfit < closest) {
+      closest = misfit;
+      best.smooth = smooth;
     }
   }
   return best;

@@ -35,11 +35,15 @@ std::string RefinerBlendText(const RefinerBlend& blend) {
       "refiner blend (held-out clips): base the input smoothed by sigma %.3g frames; weight of "
       "the correction by its size:",
       blend.sigma);
+  const std::string smooth = StringPrintf(
+      "; where the correction exceeds %g cm, the output smoothed by sigma %.3g frames (the noisy "
+      "outputs' acceleration closest to the clean clips')",
+      kSmoothFromCm, blend.smooth);
   for (size_t b = 0; b < weights.size(); ++b) {
     StringAppendf(&s, "%s %s %.2f", b ? "," : "", RefinerBlendBinName(static_cast<int>(b)).c_str(),
                   weights[b]);
   }
-  return s + "\n";
+  return s + (blend.smooth > 0 ? smooth : "") + "\n";
 }
 
 }  // namespace
@@ -55,12 +59,16 @@ std::string DvaeTrainingDoneText(DvaeStage stage, const DvaeTrainSummary& s,
       "next: motionfork dvae finetune --prior %s --data DIR --out DIR\n",
       "next: motionfork dvae refine --prior %s --data DIR --out DIR\n", ""};
   const int k = static_cast<int>(stage);
-  return StringPrintf(
-             "trained epochs %d..%d in %s%s; ", s.first_epoch + 1, s.epochs_done,
-             Duration(s.seconds).c_str(),
-             s.stopped_early ? " (stopped early: the held-out figure stopped improving)" : "") +
-         StringPrintf(kWhat[k], out.c_str()) + StringPrintf(", log: %s/log.csv\n", out.c_str()) +
-         StringPrintf(kNext[k], out.c_str()) + RefinerBlendText(s.refiner_blend);
+  const std::string trained =
+      s.epochs_done <= s.first_epoch
+          ? std::string("every epoch was trained already; ")
+          : StringPrintf(
+                "trained epochs %d..%d in %s%s; ", s.first_epoch + 1, s.epochs_done,
+                Duration(s.seconds).c_str(),
+                s.stopped_early ? " (stopped early: the held-out figure stopped improving)" : "");
+  return trained + StringPrintf(kWhat[k], out.c_str()) +
+         StringPrintf(", log: %s/log.csv\n", out.c_str()) + StringPrintf(kNext[k], out.c_str()) +
+         RefinerBlendText(s.refiner_blend);
 }
 
 }  // namespace motionfork

@@ -1,10 +1,11 @@
-// Calibrating an HG-VAE bundle's imputation refiner on held-out training clips: how much of its
-// correction of the spline to keep in each bucket of missing values (refiner_fills.h: the gap's
-// length x how crowded its frame is). Every standard gap setting (gap_imputation.h) is drawn on
-// every clip; a bucket's weight is the least-squares one, each setting counted by its error
-// relative to the spline's (so a 1-frame gap weighs as much as a 2 s one), clamped to [0, 1]: 0
-// keeps the spline, 1 the refiner as trained. The figures per setting show the fit on the same
-// clips (no test data is read).
+// Calibrating an HG-VAE bundle's imputation refiner on held-out training clips (ImputationBlend,
+// refiner_fills.h): per bucket of missing values (the gap's length x its edges' speed x how
+// crowded its frame is), how much of the refiner's correction of the spline and of the local
+// polynomial's to add, and whether keeping the rigid bones at their lengths helps. Every standard
+// gap setting (gap_imputation.h) is drawn on every clip; a bucket's two weights are the least-
+// squares ones within [0, 1], each setting counted by its error relative to the spline's (so a
+// 1-frame gap weighs as much as a 2 s one); the bones are kept when that lowers the same sum. The
+// figures per setting show the fit on the same clips (no test data is read).
 #pragma once
 
 #include <cstdint>
@@ -13,16 +14,18 @@
 
 #include "core/progress.h"
 #include "imputation/hgvae_model.h"
+#include "imputation/refiner_fills.h"
 
 namespace motionfork {
 
 struct RefinerCalibration {
-  std::vector<double> weights;         // [kRefinerGapBuckets]
+  ImputationBlend blend;               // refiner and local weights [kRefinerGapBuckets], bones
   std::vector<int64_t> bucket_values;  // missing values seen per bucket
   struct Setting {
     std::string name;
     int64_t values = 0;
     double spline_cm = 0, refiner_cm = 0, calibrated_cm = 0;  // RMS over the missing values
+    double kept_cm = 0;  // calibrated with the bone lengths kept (bone_lengths.h)
   };
   std::vector<Setting> settings;
   int clips = 0;
