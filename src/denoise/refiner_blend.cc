@@ -8,9 +8,9 @@
 
 namespace motionfork {
 
-int RefinerBlendBin(double correction_cm) {
+int RefinerBlendBin(double roughness_cm) {
   int bin = 0;
-  while (bin < kRefinerBlendBins - 1 && correction_cm >= kRefinerBlendEdges[bin]) ++bin;
+  while (bin < kRefinerBlendBins - 1 && roughness_cm >= kRefinerBlendEdges[bin]) ++bin;
   return bin;
 }
 
@@ -52,16 +52,20 @@ std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
   return per_frame;
 }
 
+std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half) {
+  return LocalCorrectionCm(input, GaussianSmooth(input, joints, 1.0), joints, half);
+}
+
 std::vector<float> SmoothWhereNoisy(const std::vector<float>& motion,
-                                    const std::vector<double>& correction_cm, int joints,
+                                    const std::vector<double>& roughness_cm, int joints,
                                     double sigma) {
   if (!(sigma > 0)) return motion;
   const std::vector<float> smooth = GaussianSmooth(motion, joints, sigma);
   const size_t F = 3 * static_cast<size_t>(joints);
   std::vector<float> out = motion;
-  for (size_t t = 0; t < correction_cm.size(); ++t) {
+  for (size_t t = 0; t < roughness_cm.size(); ++t) {
     const double v =
-        std::clamp((correction_cm[t] - kSmoothFromCm) / (kSmoothFullCm - kSmoothFromCm), 0.0, 1.0);
+        std::clamp((roughness_cm[t] - kSmoothFromCm) / (kSmoothFullCm - kSmoothFromCm), 0.0, 1.0);
     for (size_t k = t * F; k < (t + 1) * F; ++k)
       out[k] = static_cast<float>(out[k] + v * (smooth[k] - out[k]));
   }
@@ -75,7 +79,10 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
     throw std::invalid_argument("refiner_blend: expected " + std::to_string(kRefinerBlendBins) +
                                 " weights, got " + std::to_string(blend.weights.size()));
   }
-  const std::vector<double> size = LocalCorrectionCm(input, refined, joints);
+  if (refined.size() != input.size())
+    throw std::invalid_argument(
+        "refiner_blend: the refined motion's size differs from the input's");
+  const std::vector<double> size = InputRoughnessCm(input, joints);
   const std::vector<float> base = SmoothWhereNoisy(input, size, joints, blend.sigma);
   const size_t F = 3 * static_cast<size_t>(joints);
   std::vector<float> out(input.size());
@@ -100,7 +107,7 @@ void RefinerBlendFit::AddSetting(const std::vector<std::vector<float>>& inputs,
   double values = 0;
   const size_t F = 3 * static_cast<size_t>(joints);
   for (size_t m = 0; m < inputs.size(); ++m) {
-    const std::vector<double> size = LocalCorrectionCm(inputs[m], refined[m], joints);
+    const std::vector<double> size = InputRoughnessCm(inputs[m], joints);
     const std::vector<float> base = SmoothWhereNoisy(inputs[m], size, joints, sigma_);
     for (size_t t = 0; t < size.size(); ++t) {
       const int bin = RefinerBlendBin(size[t]);

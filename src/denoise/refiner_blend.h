@@ -1,14 +1,16 @@
-// How much of the denoising refiner's correction to keep, by the local size of that correction
-// (no LibTorch): where the refiner changes a motion little, the motion was probably clean and the
-// change is mostly the refiner's own error; where it changes it a lot, the input was noisy. Each
-// frame's correction size (LocalCorrectionCm, refined against the input) falls in one of
-// kRefinerBlendBins bins, each with a weight (DvaeManifest::refiner_blend, fitted on held-out
-// training clips at the end of `dvae refine`): output = base + weight x (refined - base), the base
-// the input where it looks clean and the input smoothed by a Gaussian of `sigma` frames where it
-// looks noisy (SmoothWhereNoisy; a light smoothing removes frame-to-frame noise). What is left of
-// the noise is mostly frame-to-frame and shows as acceleration: where the input looks noisy the
-// output is also smoothed, by a Gaussian of `smooth` frames. A clean input keeps its detail, its
-// last frames included (which a forecaster reads).
+// How much of the denoising refiner's correction to keep, by how rough the input looks (no
+// LibTorch): a clean motion is smooth from frame to frame, a noisy one is not, so each frame's
+// roughness (InputRoughnessCm: the input's local distance from its own light smoothing; clean
+// motion capture ~0.1-0.3 cm, 1 cm of Gaussian noise ~1.2 cm) tells how much the refiner's change
+// is noise removed and how much its own error. It works on a few frames as well as on long clips
+// (the refiner's own correction of a short clean history is not small). Each frame falls in one of
+// kRefinerBlendBins bins of roughness, each with a weight (DvaeManifest::refiner_blend, fitted on
+// held-out training clips at the end of `dvae refine`): output = base + weight x (refined - base),
+// the base the input where it looks clean and the input smoothed by a Gaussian of `sigma` frames
+// where it looks noisy (SmoothWhereNoisy). What is left of the noise is mostly frame-to-frame and
+// shows as acceleration: where the input looks noisy the output is also smoothed, by a Gaussian of
+// `smooth` frames. A clean input keeps its detail, its last frames included (which a forecaster
+// reads).
 #pragma once
 
 #include <string>
@@ -17,10 +19,10 @@
 namespace motionfork {
 
 constexpr int kRefinerBlendBins = 10;
-// Upper edges of the bins but the last, cm per joint.
+// Upper edges of the bins of roughness but the last, cm per joint.
 inline constexpr double kRefinerBlendEdges[kRefinerBlendBins - 1] = {0.25, 0.5, 0.75, 1.0, 1.25,
                                                                      1.5,  2.0, 3.0,  5.0};
-int RefinerBlendBin(double correction_cm);
+int RefinerBlendBin(double roughness_cm);
 constexpr double kSmoothFromCm = 0.5, kSmoothFullCm = 1.0;
 std::string RefinerBlendBinName(int bin);  // "0.75-1 cm"
 
@@ -29,10 +31,14 @@ std::string RefinerBlendBinName(int bin);  // "0.75-1 cm"
 std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
                                       const std::vector<float>& refined, int joints, int half = 15);
 
-// motion smoothed by a Gaussian of sigma frames where the local correction is large: fully from
-// kSmoothFullCm, not at all below kSmoothFromCm, linearly between (correction_cm per frame).
+// Per frame of a motion [T, J, 3], LocalCorrectionCm between it and itself smoothed by a
+// Gaussian of 1 frame: how rough it is around that frame, cm.
+std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half = 15);
+
+// motion smoothed by a Gaussian of sigma frames where it looks noisy: fully from a roughness of
+// kSmoothFullCm, not at all below kSmoothFromCm, linearly between (roughness_cm per frame).
 std::vector<float> SmoothWhereNoisy(const std::vector<float>& motion,
-                                    const std::vector<double>& correction_cm, int joints,
+                                    const std::vector<double>& roughness_cm, int joints,
                                     double sigma);
 
 struct RefinerBlend {
@@ -41,7 +47,8 @@ struct RefinerBlend {
   double smooth = 0;            // frames: the output's Gaussian smoothing where noisy
 };
 
-// base + weight(bin of the frame) x (refined - base), smoothed; no weights: refined unchanged.
+// base + weight(roughness bin of the frame) x (refined - base), smoothed where rough; no weights:
+// refined unchanged.
 std::vector<float> BlendRefined(const std::vector<float>& input, const std::vector<float>& refined,
                                 int joints, const RefinerBlend& blend);
 

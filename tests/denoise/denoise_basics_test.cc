@@ -137,30 +137,38 @@ TEST_CASE("refiner blend: bins of the local correction size, the blend, least-sq
   CHECK(size[0] == Approx(0));
   CHECK(size[39] == Approx(100 * std::sqrt(3 * 0.0004)));          // sqrt(3) x 2 cm per joint
   CHECK(size[20] == Approx(100 * std::sqrt(3 * 0.0004 * 3 / 5)));  // 3 of its 5 frames
+  // The input is smooth (roughness 0: bin 0), so bin 0's weight applies.
+  CHECK(InputRoughnessCm(input, J) == std::vector<double>(T, 0.0));
   RefinerBlend blend{0, std::vector<double>(kRefinerBlendBins, 1.0)};
-  blend.weights[kRefinerBlendBins - 2] = 0.5;  // 3-5 cm: sqrt(3) x 2 = 3.46 cm
+  blend.weights[0] = 0.5;
   const std::vector<float> out = BlendRefined(input, refined, J, blend);
   CHECK(out[30 * J * 3] == Approx(0.01f));
   CHECK(BlendRefined(input, refined, J, {}) == refined);
   CHECK_THROWS_AS(BlendRefined(input, refined, J, {0, {1.0}}), std::invalid_argument);
-  // A smoothed base: a constant input stays itself.
+  CHECK_THROWS_AS(BlendRefined(input, std::vector<float>(6), J, blend), std::invalid_argument);
+  // A smoothed base where rough: a smooth input stays itself.
   blend.sigma = 1.5;
   CHECK(BlendRefined(input, refined, J, blend)[30 * J * 3] == Approx(0.01f));
-  // A clean setting (refined off the truth) and a noisy one (the refiner right): the fit keeps
-  // none of the correction where only the clean one falls and all of it where the noisy one does.
+  // A clean setting (the refiner off the truth) and a noisy one (a frame-to-frame zigzag, the
+  // refiner right): the fit keeps none of the correction where the smooth input falls and all of
+  // it where the rough one does.
   RefinerBlendFit fit;
-  std::vector<float> noisy(T * J * 3, 0.05f);  // truth 0, the refiner returns it
+  std::vector<float> noisy(T * J * 3);
+  for (int t = 0; t < T; ++t)
+    for (int k = 0; k < J * 3; ++k) noisy[t * J * 3 + k] = t % 2 ? 0.05f : -0.05f;
+  const std::vector<double> rough = InputRoughnessCm(noisy, J);
+  CHECK(rough[20] > 5.0);  // ~0.98 x 5 cm per coordinate, x sqrt(3) per joint
   fit.AddSetting({input}, {std::vector<float>(T * J * 3, 0.004f)}, {input}, J);
   fit.AddSetting({noisy}, {input}, {input}, J);
   const std::vector<double> weights = fit.Blend().weights;
   CHECK(fit.Error() == Approx(0).margin(1e-12));  // both settings fitted exactly
-  CHECK(weights[RefinerBlendBin(100 * std::sqrt(3 * 0.000016))] == 0.0);  // 0.69 cm: clean
-  CHECK(weights[RefinerBlendBin(100 * std::sqrt(3 * 0.0025))] == 1.0);    // 8.7 cm: noisy
-  CHECK(weights[1] == 1.0);                                               // no data
+  CHECK(weights[0] == 0.0);                       // smooth: clean
+  CHECK(weights[kRefinerBlendBins - 1] == 1.0);   // rough: noisy
+  CHECK(weights[1] == 1.0);                       // no data
 }
 
 TEST_CASE("refiner blend: smoothing only where the correction says the input was noisy") {
-  // One joint, 60 frames of frame-to-frame zigzag; local correction 0 cm in frames 0-19, ramping
+  // One joint, 60 frames of frame-to-frame zigzag; roughness 0 cm in frames 0-19, ramping
   // 0.5 -> 1 cm over 20-39 (0.75 cm at 30) and 2 cm from 40 on.
   const int J = 1, T = 60;
   std::vector<float> zigzag(T * 3);

@@ -32,11 +32,11 @@ std::string RefinerBlendText(const RefinerBlend& blend) {
   const std::vector<double>& weights = blend.weights;
   if (weights.empty()) return "";
   std::string s = StringPrintf(
-      "refiner blend (held-out clips): base the input smoothed by sigma %.3g frames; weight of "
-      "the correction by its size:",
+      "refiner blend (held-out clips): where the input is rough, the base is the input smoothed "
+      "by sigma %.3g frames; weight of the correction by the input's roughness:",
       blend.sigma);
   const std::string smooth = StringPrintf(
-      "; where the correction exceeds %g cm, the output smoothed by sigma %.3g frames (the noisy "
+      "; where the roughness exceeds %g cm, the output smoothed by sigma %.3g frames (the noisy "
       "outputs' acceleration closest to the clean clips')",
       kSmoothFromCm, blend.smooth);
   for (size_t b = 0; b < weights.size(); ++b) {
