@@ -1,4 +1,5 @@
-// Benchmark: Motion-DVAE denoising speed (frames per second), regression and optimisation modes.
+// Benchmark: Motion-DVAE denoising speed (frames per second), regression, refiner (with the
+// bundle's blend) and optimisation modes.
 //
 //   bench_denoise MODEL_DIR [--threads N] [--frames F] [--samples S] [--iterations I]
 //
@@ -92,6 +93,15 @@ int main(int argc, char** argv) {
       std::vector<float>(p.begin(), p.begin() + 15 * fv)};
   const double one = Time(model, history, reg, 20);
   std::printf("regression, one 15-frame history: %8.2f ms\n", 1e3 * one);
+  if (model.manifest().refiner.enabled()) {  // the default mode of a bundle with a refiner
+    DenoiseOptions ref = reg;
+    ref.mode = DenoiseMode::kRefiner;
+    const double r = Time(model, {p}, ref, 3);
+    std::printf("refiner (blend %s), one sequence of %d frames: %8.1f ms (%7.0f frames/s)\n",
+                model.manifest().refiner_blend.weights.empty() ? "none" : "fitted", frames, 1e3 * r,
+                frames / r);
+    std::printf("refiner, one 15-frame history: %8.2f ms\n", 1e3 * Time(model, history, ref, 20));
+  }
   const std::vector<std::vector<float>> opt_seq = {
       std::vector<float>(p.begin(), p.begin() + std::min(frames, 300) * fv)};
   const double o = Time(model, opt_seq, opt, 1);

@@ -4,7 +4,9 @@
 //
 // Windows are the model's own samples (no data needed), 10% of their values missing. Prints the
 // time to impute one window (the interactive case: one forecaster history) and the batched
-// throughput (256 windows at once), and the scoring throughput.
+// throughput (256 windows at once), the refiner's fill of a whole motion (a bundle with one) and
+// the scoring throughput.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +17,7 @@
 #include "bundle/hgvae_bundle.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/occlusion.h"
+#include "imputation/refiner_fills.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 #include "torch_util/threads.h"
@@ -60,6 +63,33 @@ int main(int argc, char** argv) {
     const double s = Seconds(t0) / reps;
     std::printf("impute %3d window%s: %8.1f ms  (%7.1f windows/s)\n", batch, batch == 1 ? " " : "s",
                 1e3 * s, batch / s);
+  }
+  if (model.has_refiner()) {  // the refiner over a whole motion: the samples one after another
+    for (int windows : {1, 64}) {
+      const std::vector<float> poses = model.Sample(windows, -1, 4);
+      const int frames = windows * T, J = N / 3 + 1;
+      std::vector<float> positions(static_cast<size_t>(frames) * J * 3, 0.0f);
+      for (int t = 0; t < frames; ++t) {
+        std::copy(poses.begin() + static_cast<size_t>(t) * N,
+                  poses.begin() + static_cast<size_t>(t + 1) * N,
+                  positions.begin() + static_cast<size_t>(t) * J * 3 + 3);
+      }
+      const std::vector<uint8_t> m = RandomOcclusion(1, frames * J * 3, 0.1, 5);
+      std::vector<uint8_t> missing(m);
+      for (int t = 0; t < frames; ++t)  // the root is always observed
+        for (int a = 0; a < 3; ++a) missing[static_cast<size_t>(t) * J * 3 + a] = 0;
+      const std::vector<float> fallback(static_cast<size_t>(J) * 3, 0.0f);
+      auto fill = [&] {
+        return model.Refine(MakeRefinerFills(model.skeleton(), positions, missing, fallback));
+      };
+      fill();  // warm-up
+      const int reps = windows == 1 ? 20 : 3;
+      auto t0 = std::chrono::steady_clock::now();
+      for (int r = 0; r < reps; ++r) fill();
+      const double s = Seconds(t0) / reps;
+      std::printf("refiner, a motion of %4d frames (fills included): %8.1f ms (%7.0f frames/s)\n",
+                  frames, 1e3 * s, frames / s);
+    }
   }
   const std::vector<float> w = model.Sample(1024, -1, 3);
   model.Score(w);
