@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,7 @@ double Time(const DvaeModel& model, const std::vector<std::vector<float>>& seqs,
 int main(int argc, char** argv) {
   UseFastBlasKernels(argv);
   KeepFreedMemory();
-  if (argc < 2) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
     std::fprintf(stderr,
                  "usage: bench_denoise MODEL_DIR [--threads N] [--frames F] [--samples S] "
                  "[--iterations I]\n");
@@ -61,7 +62,14 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--iterations") && i + 1 < argc) iterations = std::atoi(argv[++i]);
   }
   PinThreads(threads);
-  const DvaeModel model = LoadDvaeModel(argv[1]);
+  const DvaeModel model = [&] {
+    try {
+      return LoadDvaeModel(argv[1]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_denoise: %s\n", e.what());
+      std::exit(2);
+    }
+  }();
   DenoiseOptions reg = model.manifest().denoise;
   if (samples >= 0) reg.samples = samples;
   reg.mode = DenoiseMode::kRegression;

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,7 @@ double Seconds(const std::chrono::steady_clock::time_point& t0) {
 int main(int argc, char** argv) {
   UseFastBlasKernels(argv);
   KeepFreedMemory();
-  if (argc < 2) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
     std::fprintf(stderr, "usage: bench_imputation MODEL_DIR [--threads N] [--steps S]\n");
     return 2;
   }
@@ -45,7 +46,14 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::atoi(argv[++i]);
   }
   PinThreads(threads);
-  const HgvaeModel model = LoadHgvaeModel(argv[1]);
+  const HgvaeModel model = [&] {
+    try {
+      return LoadHgvaeModel(argv[1]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_imputation: %s\n", e.what());
+      std::exit(2);
+    }
+  }();
   ImputeOptions o = model.manifest().impute;
   if (steps >= 0) o.steps = steps;
   const int T = model.window(), N = model.coords();
