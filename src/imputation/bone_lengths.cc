@@ -47,7 +47,7 @@ std::vector<ObservedBone> ObservedBones(const Skeleton& skeleton,
       if (!WhollyObserved(missing, a) || !WhollyObserved(missing, b)) continue;
       double s = 0;
       for (int k = 0; k < 3; ++k) s += std::pow(double(positions[a + k]) - positions[b + k], 2);
-      lengths.push_back(std::sqrt(s));
+      if (s > 0) lengths.push_back(std::sqrt(s));
     }
     if (lengths.empty()) continue;
     ObservedBone& bone = out[j];

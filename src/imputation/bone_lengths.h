@@ -16,10 +16,10 @@
 namespace motionfork {
 
 // A bone (parent(j) -> j) as observed: its median length over the frames where both of its ends
-// are wholly observed, and how far from it the lengths stray (90th percentile of |length -
-// median|). A bone is rigid when some frame observes it, it is at least kShortestBone long and
-// strays at most kRigidSpread: a protocol skeleton's "bone" that skips a joint of the source (the
-// Bandai upper arm hangs on the chest, past the clavicle) stretches and is left alone.
+// are wholly observed (and apart), and how far from it the lengths stray (90th percentile of
+// |length - median|). A bone is rigid when some frame observes it, it is at least kShortestBone
+// long and strays at most kRigidSpread: a protocol skeleton's "bone" that skips a joint of the
+// source (the Bandai upper arm hangs on the chest, past the clavicle) stretches and is left alone.
 constexpr double kShortestBone = 0.005, kRigidSpread = 0.0005;  // metres
 struct ObservedBone {
   double length = 0, spread = 0;

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "imputation/bone_lengths.h"
+
 namespace motionfork {
 namespace {
 
@@ -150,10 +152,10 @@ std::vector<float> RigidLimbFill(const Skeleton& skeleton, const std::vector<flo
     const size_t i = t * F + static_cast<size_t>(j) * 3;
     return !missing[i] && !missing[i + 1] && !missing[i + 2];
   };
+  const std::vector<ObservedBone> bones = ObservedBones(skeleton, positions, missing);
   for (int j = 1; j < J; ++j) {
     const int parent = skeleton.parent(j);
-    std::vector<int> at;  // frames where the bone is observed
-    std::vector<double> lengths;
+    std::vector<int> at;       // frames where the bone is observed
     std::vector<double> dirs;  // [at, 3] unit vectors
     bool gaps = false;
     for (int t = 0; t < T; ++t) {
@@ -167,7 +169,6 @@ std::vector<float> RigidLimbFill(const Skeleton& skeleton, const std::vector<flo
       len = std::sqrt(len);
       if (len <= 0) continue;
       at.push_back(t);
-      lengths.push_back(len);
       for (double x : b) dirs.push_back(x / len);
     }
     if (!gaps) continue;
@@ -181,9 +182,7 @@ std::vector<float> RigidLimbFill(const Skeleton& skeleton, const std::vector<flo
       length = std::sqrt(length);
       for (double& x : fixed_dir) x = length > 0 ? x / length : 0.0;
     } else {
-      std::vector<double> sorted = lengths;
-      std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-      length = sorted[sorted.size() / 2];
+      length = bones[j].length;  // the median over the frames in `at`
     }
     size_t next = 0;  // first observed bone frame >= t
     for (int t = 0; t < T; ++t) {
