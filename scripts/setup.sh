@@ -22,9 +22,13 @@ cd "$(dirname "$0")/.."
 #   python3 python3-numpy   tools/videopose3d_to_motionfork.py (Human3.6M / HumanEva-I npz)
 #   libcairo2-dev       draws the PNG/SVG strip figures of `motionfork render` (and decodes PNGs in its tests)
 #   chromium            headless browser the render tests load the HTML viewer in (play, screenshot)
+#   python3-dev pybind11-dev   the Python module `import motionfork` (python/): headers and the
+#                       binding library that turns the C++ API into a module taking NumPy arrays
+#   python3-pytest      runs the Python module's tests (tests/python/, from CTest)
+#   python3-matplotlib  plots futures in examples/predict_and_plot.py
 PACKAGES=(build-essential cmake ccache pkg-config libtorch-dev libgloo-dev libopenblas-dev libeigen3-dev
           libglm-dev libyaml-cpp-dev catch2 libcli11-dev libarchive-dev nlohmann-json3-dev python3 python3-numpy
-          libcairo2-dev chromium)
+          libcairo2-dev chromium python3-dev pybind11-dev python3-pytest python3-matplotlib)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -42,4 +46,5 @@ BUILD_DIR=${BUILD_DIR:-build}
 JOBS=${JOBS:-$(nproc)}
 cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$BUILD_DIR" -j "$JOBS"
-echo "setup: built $BUILD_DIR/apps/motionfork/motionfork"
+echo "setup: built $BUILD_DIR/apps/motionfork/motionfork and the Python module in $BUILD_DIR/python"
+echo "setup: from Python: PYTHONPATH=$PWD/$BUILD_DIR/python python3 -c 'import motionfork'"

@@ -187,6 +187,10 @@ class Model {
   // Predict(). Throws std::runtime_error naming the file and what is wrong in it,
   // std::invalid_argument when its joints do not include the model's.
   std::vector<float> ReadMotion(const std::string& path) const;
+  // The same for a motion already read (motionfork::ReadMotion): its joints mapped onto the
+  // model's by name, resampled to fps(). Throws std::invalid_argument when its joints do not
+  // include the model's or a value the model needs is NaN/Inf (naming the frame and joint).
+  std::vector<float> Conform(const struct MotionData& motion) const;
 
   // True when the bundle carries a pose prior (BUNDLE/prior/).
   bool has_prior() const;
@@ -259,10 +263,74 @@ class Denoiser {
   // positions: [T, J, 3] metres at fps() on joint_names(), T >= 2, every value finite. Returns
   // the denoised motion, same shape; the same input gives the same output.
   std::vector<float> Denoise(const std::vector<float>& positions) const;
+  // The same in another mode: "refiner", "regression" or "optimisation" ("" = the bundle's).
+  // Throws std::invalid_argument naming the modes for any other, or when the bundle lacks the
+  // refiner that mode needs.
+  std::vector<float> Denoise(const std::vector<float>& positions, const std::string& mode) const;
 
  private:
   struct Impl;
   explicit Denoiser(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+// A motion with its skeleton, as motion files hold it.
+struct MotionData {
+  // [frames, joints, 3] metres; NaN where the file marks a value missing (NaN in .npy, an empty
+  // or nan field in .csv).
+  std::vector<float> positions;
+  std::vector<std::string> joint_names;  // root first; .npy files store none: "joint_0", ...
+  std::vector<int> parents;              // each joint's parent index, -1 for the root
+  double fps = 0;                        // Hz
+  int frames() const;                    // positions.size() / (3 x joints)
+};
+
+// How ReadMotion reads a file (the commands' --skeleton, --fps, --bvh-scale).
+struct FileReadOptions {
+  // A skeleton config name (e.g. "bandai") or YAML path: the motion is put on that skeleton (its
+  // joints selected and ordered by name, or by position for .npy). "" = as the file stores it.
+  std::string skeleton;
+  double fps = 0;           // Hz, for files that store none (.npy); 0 = 30 Hz for those
+  double bvh_scale = 0.01;  // BVH length unit in metres (0.01: centimetres)
+  std::string config_dir;   // where `skeleton` is looked up; "" as LoadOptions::config_dir
+};
+
+// Reads a .bvh, .npy or .csv motion file. Throws std::runtime_error naming the file and what is
+// wrong in it, std::invalid_argument for bad options or a skeleton the file does not fit.
+MotionData ReadMotion(const std::string& path, const FileReadOptions& options = {});
+
+// How WriteMotion writes a file (BVH only; .npy and .csv store positions as they are).
+struct FileWriteOptions {
+  double bvh_scale = 0.01;             // metres per BVH unit (0.01: the file is in centimetres)
+  std::string rotation_order = "ZXY";  // rotation channels' axis order, a permutation of XYZ
+};
+
+// Writes a motion as .bvh (joint rotations fitted to the positions; needs parents), .npy
+// [T, J, 3] or .csv (with the joint names and fps), chosen by the extension; all-or-nothing.
+// Throws std::invalid_argument for a motion whose sizes disagree or holds NaN/Inf (naming the
+// frame and joint), std::runtime_error when the file cannot be written.
+void WriteMotion(const std::string& path, const MotionData& motion,
+                 const FileWriteOptions& options = {});
+
+// A pose prior bundle (a folder written by `motionfork prior train`, e.g. models/bandai/prior):
+// how plausible each pose is.
+class Prior {
+ public:
+  // Throws std::runtime_error naming the missing or malformed file.
+  static Prior Load(const std::string& bundle_dir);
+  ~Prior();
+  Prior(Prior&&) noexcept;
+  Prior& operator=(Prior&&) noexcept;
+
+  const std::vector<std::string>& joint_names() const;  // the layout of positions, root first
+
+  // Negative log-likelihood of each frame's pose, nats (lower = more plausible): positions
+  // [T, J, 3] metres on joint_names(), every value finite. Throws std::invalid_argument otherwise.
+  std::vector<double> Nll(const std::vector<float>& positions) const;
+
+ private:
+  struct Impl;
+  explicit Prior(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
 

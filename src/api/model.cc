@@ -11,6 +11,7 @@
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
 #include "config/skeleton_config.h"
+#include "config_dir.h"
 #include "constraints/checker.h"
 #include "constraints/constraint_set.h"
 #include "core/error.h"
@@ -28,31 +29,6 @@ namespace motionfork {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The configs folder: the option or $MOTIONFORK_CONFIG_DIR when set (must exist), else the
-// installed configs, else the source tree's; "" when none exists.
-std::string FindConfigDir(const std::string& given) {
-  std::string chosen = given, what = "LoadOptions::config_dir";
-  if (chosen.empty()) {
-    if (const char* env = std::getenv("MOTIONFORK_CONFIG_DIR"); env && *env) {
-      chosen = env;
-      what = "$MOTIONFORK_CONFIG_DIR";
-    }
-  }
-  if (!chosen.empty()) {
-    if (!fs::is_directory(chosen)) {
-      throw std::invalid_argument(what +
-                                  ": expected the configs folder (holding constraints/, "
-                                  "skeletons/, ...), got '" +
-                                  chosen + "', which is not a folder");
-    }
-    return chosen;
-  }
-  for (const char* dir : {MOTIONFORK_INSTALLED_CONFIG_DIR, MOTIONFORK_SOURCE_CONFIG_DIR}) {
-    if (*dir && fs::is_directory(dir)) return dir;
-  }
-  return "";
-}
 
 // The constraint config file for a bundle, or "" for none: the option (must resolve), else the
 // bundle's own (DIR/constraints.yaml, copied there by training), else the shipped set named like
@@ -95,6 +71,29 @@ SampleCheck ToSampleCheck(const ConstraintSet& set, const CheckResult& r) {
 }
 
 }  // namespace
+
+std::string FindConfigDir(const std::string& given) {
+  std::string chosen = given, what = "LoadOptions::config_dir";
+  if (chosen.empty()) {
+    if (const char* env = std::getenv("MOTIONFORK_CONFIG_DIR"); env && *env) {
+      chosen = env;
+      what = "$MOTIONFORK_CONFIG_DIR";
+    }
+  }
+  if (!chosen.empty()) {
+    if (!fs::is_directory(chosen)) {
+      throw std::invalid_argument(what +
+                                  ": expected the configs folder (holding constraints/, "
+                                  "skeletons/, ...), got '" +
+                                  chosen + "', which is not a folder");
+    }
+    return chosen;
+  }
+  for (const char* dir : {MOTIONFORK_INSTALLED_CONFIG_DIR, MOTIONFORK_SOURCE_CONFIG_DIR}) {
+    if (*dir && fs::is_directory(dir)) return dir;
+  }
+  return "";
+}
 
 struct Model::Impl {
   Impl(Forecaster f, const std::string& dir)
@@ -253,6 +252,29 @@ std::vector<float> Model::ReadMotion(const std::string& path) const {
   SkeletonConfig onto;
   onto.skeleton = onto.source = impl_->forecaster.skeleton();
   Motion m = ConformToSkeleton(ReadMotionFile(path, read), onto);
+  if (std::abs(m.fps() - fps()) > 1e-6 * fps()) m = Resample(m, fps());
+  return m.positions();
+}
+
+std::vector<float> Model::Conform(const MotionData& motion) const {
+  Motion m;
+  try {
+    if (motion.parents.size() != motion.joint_names.size()) {
+      throw std::invalid_argument("expected a parent per joint (" +
+                                  std::to_string(motion.joint_names.size()) + " joints), got " +
+                                  std::to_string(motion.parents.size()));
+    }
+    m = Motion(std::make_shared<const Skeleton>(
+                   Skeleton::FromParents("motion", motion.joint_names, motion.parents)),
+               motion.fps, motion.positions);
+  } catch (const std::invalid_argument& e) {
+    std::string what = e.what();
+    if (what.rfind("Motion: ", 0) == 0) what = what.substr(8);
+    throw std::invalid_argument("Conform: motion: " + what);
+  }
+  SkeletonConfig onto;
+  onto.skeleton = onto.source = impl_->forecaster.skeleton();
+  m = ConformToSkeleton(m, onto);
   if (std::abs(m.fps() - fps()) > 1e-6 * fps()) m = Resample(m, fps());
   return m.positions();
 }

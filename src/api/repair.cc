@@ -87,6 +87,13 @@ const std::vector<std::string>& Denoiser::joint_names() const {
 double Denoiser::fps() const { return impl_->model.manifest().fps; }
 
 std::vector<float> Denoiser::Denoise(const std::vector<float>& positions) const {
+  return Denoise(positions, "");
+}
+
+std::vector<float> Denoiser::Denoise(const std::vector<float>& positions,
+                                     const std::string& mode) const {
+  DenoiseOptions options = impl_->model.manifest().denoise;
+  if (!mode.empty()) options.mode = ParseDenoiseMode(mode);
   if (FramesOf(positions, impl_->skeleton->num_joints(), "Denoise: positions") < 2) {
     throw std::invalid_argument("Denoise: expected at least 2 frames, got 1");
   }
@@ -96,7 +103,7 @@ std::vector<float> Denoiser::Denoise(const std::vector<float>& positions) const 
   } catch (const std::invalid_argument& e) {  // a NaN/Inf value: name it as the caller's
     throw std::invalid_argument(std::string("Denoise: positions: ") + e.what());
   }
-  return DenoiseMotion(impl_->model, motion, impl_->model.manifest().denoise).positions();
+  return DenoiseMotion(impl_->model, motion, options).positions();
 }
 
 }  // namespace motionfork
