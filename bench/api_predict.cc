@@ -1,11 +1,13 @@
 // Benchmark: the public C++ API's Model::Predict on a batch of histories, one thread: the time
 // the Python module's predict() of the same batch is compared with (bench/python_api.py).
 //
-//   bench_api_predict MODEL_DIR HISTORY [--batch B] [-k K] [--repeats R]
+//   bench_api_predict MODEL_DIR HISTORY [--batch B] [-k K] [--repeats R] [--stdin]
 //
 // HISTORY: a motion file (e.g. from `motionfork synth walk`); the batch is B copies of it shifted
 // by 1 mm each (as bench/python_api.py builds it). Prints the median of R timed batches (after one
-// warm-up) in milliseconds, as "median_ms <value>".
+// warm-up) in milliseconds, as "median_ms <value>". --stdin: after the warm-up, times one batch
+// per line read from standard input and prints its milliseconds (a caller interleaves its own
+// timings with these, call by call).
 #include <motionfork/motionfork.h>
 
 #include <algorithm>
@@ -25,7 +27,13 @@ int main(int argc, char** argv) {
     return argc < 3 ? 2 : 0;
   }
   int batch = 16, k = 50, repeats = 10;
-  for (int i = 3; i + 1 < argc; ++i) {
+  bool from_stdin = false;
+  for (int i = 3; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--stdin")) {
+      from_stdin = true;
+      continue;
+    }
+    if (i + 1 >= argc) break;
     if (!std::strcmp(argv[i], "--batch"))
       batch = std::atoi(argv[++i]);
     else if (!std::strcmp(argv[i], "-k"))
@@ -49,6 +57,20 @@ int main(int argc, char** argv) {
       return values;
     };
     run();  // warm-up
+    if (from_stdin) {
+      std::printf("ready\n");
+      std::fflush(stdout);
+      for (int c; (c = std::getchar()) != EOF;) {
+        if (c != '\n') continue;
+        const auto t0 = std::chrono::steady_clock::now();
+        run();
+        std::printf("%.3f\n",
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                        .count());
+        std::fflush(stdout);
+      }
+      return 0;
+    }
     std::vector<double> ms;
     for (int r = 0; r < repeats; ++r) {
       const auto t0 = std::chrono::steady_clock::now();

@@ -5,9 +5,11 @@
                                                       [--rounds 5] [--repeats 5]
 
 Both sides: the shipped models/bandai on one thread, B histories (a synthetic walk shifted by
-1 mm per history, as bench_api_predict builds them), k futures each. Rounds alternate the two
-(A/B interleaved, so a CPU that changes speed affects both alike); each round reports the median
-of its repeats. Prints both medians per round and the overall ratio Python / C++.
+1 mm per history, as bench_api_predict builds them), k futures each. The C++ side is
+bench_api_predict --stdin, a process kept running that times one batch per request, so the two
+alternate call by call (A/B interleaved: this machine's speed drifts by 30% over seconds, which
+then affects both alike). Each round reports the median of its repeats of each; the ratio at the
+end is over the medians of all calls.
 """
 import argparse
 import os
@@ -42,23 +44,29 @@ def main():
         history = model.read_motion(walk)
         batch = np.stack([history + np.float32(0.001) * b for b in range(a.batch)])
         model.predict(batch, k=a.k)  # warm-up
-        py_ms, cpp_ms = [], []
+        cpp = subprocess.Popen([bench, a.model, walk, "--batch", str(a.batch), "-k", str(a.k),
+                                "--stdin"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                               text=True)
+        assert cpp.stdout.readline().strip() == "ready"
+        all_py, all_cpp = [], []
         for r in range(a.rounds):
-            out = subprocess.run([bench, a.model, walk, "--batch", str(a.batch), "-k", str(a.k),
-                                  "--repeats", str(a.repeats)], check=True, capture_output=True,
-                                 text=True).stdout
-            cpp_ms.append(float(out.split("median_ms")[1]))
-            times = []
+            py_ms, cpp_ms = [], []
             for _ in range(a.repeats):
+                cpp.stdin.write("\n")
+                cpp.stdin.flush()
+                cpp_ms.append(float(cpp.stdout.readline()))
                 t0 = time.perf_counter()
                 model.predict(batch, k=a.k)
-                times.append(1000 * (time.perf_counter() - t0))
-            py_ms.append(statistics.median(times))
-            print(f"round {r}: C++ API {cpp_ms[-1]:.1f} ms, Python {py_ms[-1]:.1f} ms "
-                  f"({py_ms[-1] / cpp_ms[-1]:.3f}x)")
-        ratio = statistics.median(py_ms) / statistics.median(cpp_ms)
-        print(f"batch {a.batch}, k {a.k}: C++ API median {statistics.median(cpp_ms):.1f} ms, "
-              f"Python median {statistics.median(py_ms):.1f} ms, Python / C++ = {ratio:.3f}")
+                py_ms.append(1000 * (time.perf_counter() - t0))
+            all_py += py_ms
+            all_cpp += cpp_ms
+            py, c = statistics.median(py_ms), statistics.median(cpp_ms)
+            print(f"round {r}: C++ API {c:.1f} ms, Python {py:.1f} ms ({py / c:.3f}x)")
+        cpp.stdin.close()
+        cpp.wait()
+        py, c = statistics.median(all_py), statistics.median(all_cpp)
+        print(f"batch {a.batch}, k {a.k}, {len(all_py)} calls each: C++ API median {c:.1f} ms, "
+              f"Python median {py:.1f} ms, Python / C++ = {py / c:.3f}")
 
 
 if __name__ == "__main__":

@@ -245,28 +245,32 @@ PYBIND11_MODULE(motionfork, m) {
             }
             RequireShape(a, {3, 4}, J, "history", "[T, J, 3] or [B, T, J, 3]");
             const bool batch = a.ndim() == 4;
-            const py::ssize_t B = batch ? a.shape(0) : 1,
-                              per = a.size() / std::max<py::ssize_t>(B, 1);
+            const py::ssize_t B = batch ? a.shape(0) : 1;
+            const py::ssize_t per = B == 0 ? 0 : a.size() / B;
             const mf::PredictOptions o{k, seed, std::move(fix), repair};
-            std::vector<std::vector<float>> out(B);
-            int frames = 0;
-            {
-              std::vector<std::vector<float>> histories;
-              for (py::ssize_t b = 0; b < B; ++b) histories.push_back(ToVector(a, b * per, per));
-              py::gil_scoped_release release;
-              for (py::ssize_t b = 0; b < B; ++b) {
-                const mf::Futures f = model.Predict(histories[b], o);
-                frames = f.history_frames + f.frames;
-                for (int i = 0; i < f.k; ++i) {
-                  const std::vector<float> s = f.Sequence(i);
-                  out[b].insert(out[b].end(), s.begin(), s.end());
-                }
+            const py::ssize_t frames = model.history_frames() + model.future_frames();
+            const size_t history_values = static_cast<size_t>(model.history_frames()) * J * 3,
+                         sample_values = static_cast<size_t>(frames) * J * 3;
+            // The output written in place, each sample its history frames then its future.
+            py::array_t<float> out =
+                batch
+                    ? py::array_t<float>(
+                          {B, py::ssize_t{k}, frames, py::ssize_t{J}, py::ssize_t{3}})
+                    : py::array_t<float>({py::ssize_t{k}, frames, py::ssize_t{J}, py::ssize_t{3}});
+            float* dst = out.mutable_data();
+            std::vector<std::vector<float>> histories;
+            for (py::ssize_t b = 0; b < B; ++b) histories.push_back(ToVector(a, b * per, per));
+            py::gil_scoped_release release;
+            for (py::ssize_t b = 0; b < B; ++b) {
+              const mf::Futures f = model.Predict(histories[b], o);
+              const size_t future_values = sample_values - history_values;
+              for (int i = 0; i < f.k; ++i) {
+                float* s = dst + (static_cast<size_t>(b) * k + i) * sample_values;
+                std::copy(f.history.begin(), f.history.end(), s);
+                std::copy(f.sample(i), f.sample(i) + future_values, s + history_values);
               }
             }
-            std::vector<float> all;
-            for (const auto& o2 : out) all.insert(all.end(), o2.begin(), o2.end());
-            if (batch) return ToArray(all, {B, k, frames, J, 3});
-            return ToArray(all, {k, frames, J, 3});
+            return out;
           },
           py::arg("history"), py::arg("k") = 50, py::arg("seed") = 0,
           py::arg("fix") = std::vector<std::string>{}, py::arg("repair") = true,
