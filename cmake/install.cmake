@@ -44,7 +44,8 @@ install(TARGETS ${MOTIONFORK_EXPORTED_TARGETS} EXPORT motionforkTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT sdk
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/motionfork
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT sdk)
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT sdk
+        PATTERN evaluate.h EXCLUDE)  # motionfork_api_eval is not installed (build tree only)
 install(FILES ${PROJECT_BINARY_DIR}/include/motionfork/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/motionfork COMPONENT sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/configs/

@@ -1,5 +1,5 @@
 """Type stubs of the motionfork module (python/motionfork_module.cc): what editors complete."""
-from typing import Dict, List, Optional, Sequence, TypedDict, Union
+from typing import Any, Dict, List, Optional, Sequence, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -91,3 +91,6 @@ class Denoiser:
 
 def impute(model_path: str, motion: ArrayLike, mask: Optional[ArrayLike] = None) -> npt.NDArray[np.float32]: ...
 def denoise(model_path: str, motion: ArrayLike, mode: str = "") -> npt.NDArray[np.float32]: ...
+def evaluate(predictor: str, protocol: str, data: str = "", k: int = 50, seed: int = 0, split: str = "",
+             subset: str = "test", clips: str = "", fix: str = "", repair: bool = True, threads: int = 0,
+             config_dir: str = "", cache_dir: str = "") -> Dict[str, Any]: ...

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "motionfork/evaluate.h"
 #include "motionfork/motionfork.h"
 
 namespace py = pybind11;
@@ -454,4 +455,41 @@ PYBIND11_MODULE(motionfork, m) {
       },
       py::arg("model_path"), py::arg("motion"), py::arg("mode") = "",
       "Denoiser.load(model_path).denoise(motion, mode).");
+
+  m.def(
+      "evaluate",
+      [](const std::string& predictor, const std::string& protocol, const std::string& data, int k,
+         uint64_t seed, const std::string& split, const std::string& subset,
+         const std::string& clips, const std::string& fix, bool repair, int threads,
+         const std::string& config_dir, const std::string& cache_dir) {
+        mf::EvaluateOptions o;
+        o.predictor = predictor;
+        o.protocol = protocol;
+        o.data = data;
+        o.k = k;
+        o.seed = seed;
+        o.split_file = split;
+        o.subset = subset;
+        o.clips = clips;
+        o.fix = fix;
+        o.repair = repair;
+        o.threads = threads;
+        o.config_dir = config_dir;
+        o.cache_dir = cache_dir;
+        std::string json;
+        {
+          py::gil_scoped_release release;
+          json = mf::EvaluateJson(o);
+        }
+        return py::module_::import("json").attr("loads")(json);
+      },
+      py::arg("predictor"), py::arg("protocol"), py::arg("data") = "", py::arg("k") = 50,
+      py::arg("seed") = 0, py::arg("split") = "", py::arg("subset") = "test", py::arg("clips") = "",
+      py::arg("fix") = "", py::arg("repair") = true, py::arg("threads") = 0,
+      py::arg("config_dir") = "", py::arg("cache_dir") = "",
+      "Evaluates a predictor (a model bundle folder, or 'zero-velocity' / 'nearest-neighbours')\n"
+      "on a protocol's test windows, as `motionfork eval` does: APD, ADE, FDE, MMADE, MMFDE\n"
+      "(metres), overall and per action, and the validity figures, as a dict (the command's\n"
+      "--json). data: the protocol's data folder; split: a split file; clips: a folder of\n"
+      "motion files evaluated instead of data's test clips; fix: a part all samples share.");
 }

@@ -5,6 +5,7 @@ MOTIONFORK_BIN (the command), MOTIONFORK_ROOT (the source tree, for models/banda
 Fixtures are made here: a synthetic walk from `motionfork synth walk`.
 """
 import errno
+import json
 import os
 import subprocess
 import threading
@@ -21,6 +22,16 @@ ROOT = os.environ.get("MOTIONFORK_ROOT", os.path.join(os.path.dirname(__file__),
 BIN = os.environ.get("MOTIONFORK_BIN", os.path.join(ROOT, "build", "apps", "motionfork", "motionfork"))
 MODEL = os.path.join(ROOT, "models", "bandai")
 SHARED = os.environ.get("MOTIONFORK_SHARED_DIR", os.path.join(ROOT, "..", "shared"))
+
+
+def real_data(path):
+    """path when it exists; else the test skips, or fails under CI=true (real data must run)."""
+    if not os.path.exists(path):
+        message = "real data: " + path + " not found"
+        if os.environ.get("CI") == "true":
+            pytest.fail(message + " (CI=true: real-data tests must run)")
+        pytest.skip(message)
+    return path
 
 
 def run(*args):
@@ -224,12 +235,7 @@ def test_prediction_releases_the_gil(model, walk):
 
 def test_real_data_a_bandai_bvh_as_the_done_when_line_reads(model, tmp_path):
     """A Bandai BVH of 22 joints, read with its own skeleton and predicted from (real data)."""
-    archive = os.path.join(SHARED, "data", "bandai", "bandai-1.tar.xz")
-    if not os.path.exists(archive):
-        message = "real data: " + archive + " not found"
-        if os.environ.get("CI") == "true":
-            pytest.fail(message + " (CI=true: real-data tests must run)")
-        pytest.skip(message)
+    archive = real_data(os.path.join(SHARED, "data", "bandai", "bandai-1.tar.xz"))
     with tarfile.open(archive) as tar:
         member = next(m for m in tar if m.name.endswith("_walk_elderly_001.bvh") or
                       (m.isfile() and m.name.endswith(".bvh") and "walk" in m.name))
@@ -244,3 +250,27 @@ def test_real_data_a_bandai_bvh_as_the_done_when_line_reads(model, tmp_path):
     run("predict", path, "--model", MODEL, "-k", "50", "-o", out)
     assert np.array_equal(futures, np.load(out + ".npy"))
     assert np.array_equal(model.predict(model.read_motion(path), k=50), futures)
+
+
+def test_real_data_evaluate_returns_the_commands_figures(tmp_path):
+    """evaluate() against `motionfork eval --json` on two synthetic walks (training clips: Bandai)."""
+    data = real_data(os.path.join(SHARED, "data", "bandai"))
+    clips = tmp_path / "clips"
+    clips.mkdir()
+    run("synth", "walk", "--frames", "120", "-o", str(clips / "walk1.bvh"))
+    run("synth", "walk", "--frames", "120", "--speed", "0.8", "--heading", "40", "-o",
+        str(clips / "walk2.bvh"))
+    for predictor in ("zero-velocity", MODEL):
+        flag = "--model" if predictor == MODEL else "--baseline"
+        out = str(tmp_path / "eval.json")
+        run("eval", flag, predictor, "--protocol", "bandai", "--data", data, "--clips", str(clips),
+            "-k", "5", "--threads", "1", "--json", out)
+        with open(out) as f:
+            expected = json.load(f)
+        got = mf.evaluate(predictor, "bandai", data=data, clips=str(clips), k=5, threads=1)
+        for figures in (expected, got):
+            del figures["seconds"]
+        assert got == expected
+        assert got["windows"] == 8 and got["ade"] > 0
+    with pytest.raises(ValueError, match="predictor"):
+        mf.evaluate("", "bandai", data=data)
