@@ -237,17 +237,21 @@ PYBIND11_MODULE(motionfork, m) {
           [](const mf::Model& model, const py::object& history, int k, uint64_t seed,
              std::vector<std::string> fix, bool repair) {
             const int J = static_cast<int>(model.joint_names().size());
-            FloatArray a;
+            // One vector per history: a Motion's conformed frames moved in, an array's copied.
+            std::vector<std::vector<float>> histories;
+            bool batch = false;
             if (py::isinstance<PyMotion>(history)) {
-              const std::vector<float> conformed = model.Conform(history.cast<PyMotion>().data);
-              a = ToArray(conformed, {FramesOf(conformed, J), J, 3});
+              // [T, J, 3] on the model's joints by construction (Conform checks the rest).
+              histories.push_back(model.Conform(history.cast<PyMotion>().data));
             } else {
-              a = AsFloats(history, "history");
+              const FloatArray a = AsFloats(history, "history");
+              RequireShape(a, {3, 4}, J, "history", "[T, J, 3] or [B, T, J, 3]");
+              batch = a.ndim() == 4;
+              const py::ssize_t n = batch ? a.shape(0) : 1;
+              const py::ssize_t per = n == 0 ? 0 : a.size() / n;
+              for (py::ssize_t b = 0; b < n; ++b) histories.push_back(ToVector(a, b * per, per));
             }
-            RequireShape(a, {3, 4}, J, "history", "[T, J, 3] or [B, T, J, 3]");
-            const bool batch = a.ndim() == 4;
-            const py::ssize_t B = batch ? a.shape(0) : 1;
-            const py::ssize_t per = B == 0 ? 0 : a.size() / B;
+            const py::ssize_t B = static_cast<py::ssize_t>(histories.size());
             const mf::PredictOptions o{k, seed, std::move(fix), repair};
             const py::ssize_t frames = model.history_frames() + model.future_frames();
             const size_t history_values = static_cast<size_t>(model.history_frames()) * J * 3,
@@ -259,8 +263,6 @@ PYBIND11_MODULE(motionfork, m) {
                           {B, py::ssize_t{k}, frames, py::ssize_t{J}, py::ssize_t{3}})
                     : py::array_t<float>({py::ssize_t{k}, frames, py::ssize_t{J}, py::ssize_t{3}});
             float* dst = out.mutable_data();
-            std::vector<std::vector<float>> histories;
-            for (py::ssize_t b = 0; b < B; ++b) histories.push_back(ToVector(a, b * per, per));
             py::gil_scoped_release release;
             for (py::ssize_t b = 0; b < B; ++b) {
               const mf::Futures f = model.Predict(histories[b], o);
@@ -298,12 +300,7 @@ PYBIND11_MODULE(motionfork, m) {
               py::gil_scoped_release release;
               for (const auto& s : samples) {
                 checks.push_back(model.CheckMotion(s));
-                if (model.has_prior()) {
-                  const std::vector<double> frame_nll = model.PriorNll(s);
-                  double mean = 0;
-                  for (double v : frame_nll) mean += v / frame_nll.size();
-                  nll.push_back(mean);
-                }
+                if (model.has_prior()) nll.push_back(model.MeanPriorNll(s));
               }
             }
             py::list out;

@@ -197,6 +197,8 @@ class Model {
   // The prior's negative log-likelihood of each frame's pose, nats (lower = more plausible):
   // positions [T, J, 3] metres on the model's joints. Throws std::logic_error without a prior.
   std::vector<double> PriorNll(const std::vector<float>& positions) const;
+  // Their mean over the frames: the figure `motionfork check` and the prediction file report.
+  double MeanPriorNll(const std::vector<float>& positions) const;
 
   // Writes futures as `motionfork predict -o OUT` does: OUT.npy [k, history_frames + frames, J, 3]
   // and OUT.json (skeleton, parts, each future's validity under the bundle's own constraints and

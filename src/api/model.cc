@@ -22,6 +22,7 @@
 #include "motionfork/motionfork.h"
 #include "pipeline/export.h"
 #include "pipeline/predict.h"
+#include "positions.h"
 #include "torch_util/threads.h"
 #include "validity/pose_validator.h"
 
@@ -116,20 +117,7 @@ struct Model::Impl {
   // positions: [T, J, 3] on the model's joints as a Motion (checks the size and finiteness,
   // naming the frame and joint of a bad value).
   Motion ToMotion(const std::vector<float>& positions, const char* who) const {
-    const size_t frame = static_cast<size_t>(skeleton().num_joints()) * 3;
-    if (positions.empty() || positions.size() % frame != 0) {
-      throw std::invalid_argument(
-          std::string(who) + ": expected [T, " + std::to_string(skeleton().num_joints()) +
-          ", 3] positions, a non-zero multiple of " + std::to_string(frame) + " values, got " +
-          std::to_string(positions.size()) + " values");
-    }
-    try {
-      return Motion(forecaster.skeleton(), forecaster.config().fps, positions);
-    } catch (const std::invalid_argument& e) {  // a NaN/Inf value: name it as the caller's
-      std::string what = e.what();
-      if (what.rfind("Motion: ", 0) == 0) what = what.substr(8);
-      throw std::invalid_argument(std::string(who) + ": " + what);
-    }
+    return MotionFromPositions(forecaster.skeleton(), forecaster.config().fps, positions, who);
   }
 
   SampleCheck CheckFrames(const Motion& motion) const {
@@ -257,21 +245,8 @@ std::vector<float> Model::ReadMotion(const std::string& path) const {
 }
 
 std::vector<float> Model::Conform(const MotionData& motion) const {
-  Motion m;
-  try {
-    if (motion.parents.size() != motion.joint_names.size()) {
-      throw std::invalid_argument("expected a parent per joint (" +
-                                  std::to_string(motion.joint_names.size()) + " joints), got " +
-                                  std::to_string(motion.parents.size()));
-    }
-    m = Motion(std::make_shared<const Skeleton>(
-                   Skeleton::FromParents("motion", motion.joint_names, motion.parents)),
-               motion.fps, motion.positions);
-  } catch (const std::invalid_argument& e) {
-    std::string what = e.what();
-    if (what.rfind("Motion: ", 0) == 0) what = what.substr(8);
-    throw std::invalid_argument("Conform: motion: " + what);
-  }
+  Motion m = MotionFromPositions(motion.joint_names, motion.parents, motion.fps, motion.positions,
+                                 "Conform: motion");
   SkeletonConfig onto;
   onto.skeleton = onto.source = impl_->forecaster.skeleton();
   m = ConformToSkeleton(m, onto);
@@ -304,6 +279,13 @@ std::vector<double> Model::PriorNll(const std::vector<float>& positions) const {
   }
   const Motion m = impl_->ToMotion(positions, "PriorNll: positions");
   return impl_->bundle_judge.PriorNll(m.positions().data(), m.num_frames());
+}
+
+double Model::MeanPriorNll(const std::vector<float>& positions) const {
+  const std::vector<double> nll = PriorNll(positions);
+  double mean = 0;
+  for (double v : nll) mean += v / static_cast<double>(nll.size());
+  return mean;
 }
 
 namespace {

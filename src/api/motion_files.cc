@@ -12,6 +12,7 @@
 #include "io/motion_file.h"
 #include "motionfork/motionfork.h"
 #include "pipeline/motion_input.h"
+#include "positions.h"
 
 namespace motionfork {
 
@@ -41,22 +42,8 @@ MotionData ReadMotion(const std::string& path, const FileReadOptions& options) {
 
 void WriteMotion(const std::string& path, const MotionData& motion,
                  const FileWriteOptions& options) {
-  const size_t J = motion.joint_names.size();
-  if (J == 0 || motion.parents.size() != J) {
-    throw std::invalid_argument("WriteMotion " + path + ": expected a parent per joint (" +
-                                std::to_string(J) + " joints), got " +
-                                std::to_string(motion.parents.size()) + " parents");
-  }
-  auto skeleton = std::make_shared<const Skeleton>(
-      Skeleton::FromParents("motion", motion.joint_names, motion.parents));
-  Motion m;
-  try {
-    m = Motion(skeleton, motion.fps, motion.positions);
-  } catch (const std::invalid_argument& e) {  // sizes, fps, a NaN/Inf value: name the file
-    std::string what = e.what();
-    if (what.rfind("Motion: ", 0) == 0) what = what.substr(8);
-    throw std::invalid_argument("WriteMotion " + path + ": " + what);
-  }
+  const Motion m = MotionFromPositions(motion.joint_names, motion.parents, motion.fps,
+                                       motion.positions, "WriteMotion " + path);
   BvhWriteOptions bvh;
   bvh.scale_to_metres = options.bvh_scale;
   bvh.rotation_order = options.rotation_order;
@@ -81,20 +68,8 @@ const std::vector<std::string>& Prior::joint_names() const {
 }
 
 std::vector<double> Prior::Nll(const std::vector<float>& positions) const {
-  const size_t frame = static_cast<size_t>(impl_->prior.skeleton().num_joints()) * 3;
-  if (positions.empty() || positions.size() % frame != 0) {
-    throw std::invalid_argument("Prior::Nll: expected [T, " + std::to_string(frame / 3) +
-                                ", 3] positions, a non-zero multiple of " + std::to_string(frame) +
-                                " values, got " + std::to_string(positions.size()) + " values");
-  }
-  Motion m;
-  try {
-    m = Motion(impl_->prior.skeleton_ptr(), 30.0, positions);
-  } catch (const std::invalid_argument& e) {
-    std::string what = e.what();
-    if (what.rfind("Motion: ", 0) == 0) what = what.substr(8);
-    throw std::invalid_argument("Prior::Nll: positions: " + what);
-  }
+  const Motion m =
+      MotionFromPositions(impl_->prior.skeleton_ptr(), 30.0, positions, "Prior::Nll: positions");
   std::vector<double> nll = impl_->prior.LogProb(m);
   for (double& v : nll) v = -v;
   return nll;

@@ -11,22 +11,9 @@
 #include "imputation/hgvae_model.h"
 #include "imputation/motion_imputation.h"
 #include "motionfork/motionfork.h"
+#include "positions.h"
 
 namespace motionfork {
-namespace {
-
-// positions [T, J, 3] -> frames, checking the size (who: the caller, for the message).
-int FramesOf(const std::vector<float>& positions, int joints, const char* who) {
-  const size_t frame = static_cast<size_t>(joints) * 3;
-  if (positions.empty() || positions.size() % frame != 0) {
-    throw std::invalid_argument(std::string(who) + ": expected [T, " + std::to_string(joints) +
-                                ", 3] positions, a non-zero multiple of " + std::to_string(frame) +
-                                " values, got " + std::to_string(positions.size()) + " values");
-  }
-  return static_cast<int>(positions.size() / frame);
-}
-
-}  // namespace
 
 struct Imputer::Impl {
   HgvaeModel model;
@@ -97,12 +84,8 @@ std::vector<float> Denoiser::Denoise(const std::vector<float>& positions,
   if (FramesOf(positions, impl_->skeleton->num_joints(), "Denoise: positions") < 2) {
     throw std::invalid_argument("Denoise: expected at least 2 frames, got 1");
   }
-  Motion motion;
-  try {
-    motion = Motion(impl_->skeleton, fps(), positions);
-  } catch (const std::invalid_argument& e) {  // a NaN/Inf value: name it as the caller's
-    throw std::invalid_argument(std::string("Denoise: positions: ") + e.what());
-  }
+  const Motion motion =
+      MotionFromPositions(impl_->skeleton, fps(), positions, "Denoise: positions");
   return DenoiseMotion(impl_->model, motion, options).positions();
 }
 
