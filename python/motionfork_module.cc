@@ -201,17 +201,19 @@ PYBIND11_MODULE(motionfork, m) {
       .def_static(
           "load",
           [](const std::string& path, const std::string& constraints, int threads,
-             const std::string& config_dir) {
+             const std::string& config_dir, const std::string& joint_map) {
             RequireExists(path, "model bundle folder");
-            mf::LoadOptions o{config_dir, constraints, threads};
+            mf::LoadOptions o{config_dir, constraints, threads, joint_map};
             py::gil_scoped_release release;
             return mf::Model::Load(path, o);
           },
           py::arg("path"), py::arg("constraints") = "", py::arg("threads") = 0,
-          py::arg("config_dir") = "",
+          py::arg("config_dir") = "", py::arg("joint_map") = "",
           "Loads a model bundle. constraints: the angle-range set check() uses (a shipped name or\n"
           "a YAML path; '' = the bundle's own; 'none' = none); threads > 0 pins the thread pools\n"
-          "(process-wide).")
+          "(process-wide); joint_map: how motions of another rig map onto the model's joints\n"
+          "('' = the rig convention their names follow; a convention name such as 'mixamo', or\n"
+          "a joint map YAML, configs/rigs/README.md).")
       .def_property_readonly("joint_names", &mf::Model::joint_names, "joint names, root first")
       .def_property_readonly("parents", &mf::Model::parents,
                              "parent index per joint, -1 for the root")

@@ -127,7 +127,10 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const PosePrior prior = LoadPosePrior(o.model);
   const std::string config_dir = ConfigDir(g.config_dir);
   const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
-  const Motion motion = pipeline::OnPriorSkeleton(lm, prior, config_dir);
+  std::vector<std::string> notes;
+  const Motion motion = pipeline::OnPriorSkeleton(lm, prior, config_dir, &notes);
+  for (const std::string& note : notes)
+    std::fprintf(stderr, "note: %s: %s\n", o.file.c_str(), note.c_str());
   const pipeline::PriorScore s = pipeline::ScorePoses(prior, motion);
   if (o.json == "-") {
     EmitJson("-", pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));

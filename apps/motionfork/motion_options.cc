@@ -16,6 +16,11 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
                   "Frame rate in Hz of files that store none (.npy; .csv without an fps comment); "
                   "default 30")
       ->check(PositiveNumber);
+  cmd->add_option("--joint-map", o->joint_map,
+                  "How a file's joints map onto the model's when their names differ: a rig "
+                  "convention (bandai, mixamo, cmu, unreal, unreal5, smpl, h36m, humaneva) or a "
+                  "joint map YAML (configs/rigs/README.md); default: the convention that explains "
+                  "the file's joint names");
   cmd->add_option("--bvh-scale", o->bvh_scale,
                   "BVH length unit in metres (0.01 = centimetres, the default; 1 = metres)")
       ->check(PositiveNumber);
@@ -32,6 +37,8 @@ MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOpti
   MotionWithGaps in =
       pipeline::LoadMotionWithGaps(path, WithConfigDir(input, ConfigDir(global.config_dir)),
                                    std::make_shared<const Skeleton>(skeleton), fps, masks, seed);
+  for (const std::string& note : in.notes)
+    std::fprintf(stderr, "note: %s: %s\n", path.c_str(), note.c_str());
   NoteResampling(path, in.resampled_from, in.motion.fps());
   return in;
 }

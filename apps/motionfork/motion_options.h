@@ -1,4 +1,5 @@
-// The flags every subcommand that reads a motion file shares: --skeleton, --fps, --bvh-scale
+// The flags every subcommand that reads a motion file shares: --skeleton, --fps, --joint-map,
+// --bvh-scale
 // (reading itself is pipeline/motion_input.h).
 #pragma once
 
@@ -22,7 +23,8 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o);
 MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir);
 
 // The motion file on a model's skeleton and at its frame rate (pipeline::LoadMotionWithGaps;
-// --skeleton names looked up in the configs folder), with NoteResampling's note; masks as --mask
+// --skeleton names looked up in the configs folder), with its mapping notes and NoteResampling's
+// note; masks as --mask
 // gives them (random ones drawn from the seed).
 MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOptions& input,
                                   const GlobalOptions& global, const Skeleton& skeleton, double fps,

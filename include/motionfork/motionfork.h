@@ -62,6 +62,10 @@ struct LoadOptions {
   // > 0: pin LibTorch's and OpenBLAS's thread pools to this many threads (process-wide; engines
   // sharing the CPU want 1 or 2). 0 = leave them as they are.
   int threads = 0;
+  // How ReadMotion() and Conform() map a motion whose joint names are not the model's: "" = by
+  // the rig convention (configs/rigs/: Mixamo, CMU, Unreal, SMPL, ...) that explains its names;
+  // else a convention name or a joint map YAML (configs/rigs/README.md), always used.
+  std::string joint_map;
 };
 
 // One body part the model samples with its own latent code.
@@ -184,13 +188,17 @@ class Model {
   // Reads a motion file (.bvh in centimetres, .npy [T, J, 3] metres in joint_names() order, .csv
   // as written by `motionfork convert`), keeps the model's joints (by name; a Bandai BVH's 22
   // joints -> the model's 17) and resamples it to fps(). Returns [T, J, 3] metres, ready for
-  // Predict(). Throws std::runtime_error naming the file and what is wrong in it,
-  // std::invalid_argument when its joints do not include the model's.
-  std::vector<float> ReadMotion(const std::string& path) const;
+  // Predict(). Another rig's joints (Mixamo, SMPL, ...) are mapped by their roles
+  // (LoadOptions::joint_map); `notes`, when given, receives how, for people. Throws
+  // std::runtime_error naming the file and what is wrong in it, std::invalid_argument when its
+  // joints do not map onto the model's.
+  std::vector<float> ReadMotion(const std::string& path,
+                                std::vector<std::string>* notes = nullptr) const;
   // The same for a motion already read (motionfork::ReadMotion): its joints mapped onto the
-  // model's by name, resampled to fps(). Throws std::invalid_argument when its joints do not
-  // include the model's or a value the model needs is NaN/Inf (naming the frame and joint).
-  std::vector<float> Conform(const struct MotionData& motion) const;
+  // model's, resampled to fps(). Throws std::invalid_argument when its joints do not map onto
+  // the model's or a value the model needs is NaN/Inf (naming the frame and joint).
+  std::vector<float> Conform(const struct MotionData& motion,
+                             std::vector<std::string>* notes = nullptr) const;
 
   // True when the bundle carries a pose prior (BUNDLE/prior/).
   bool has_prior() const;

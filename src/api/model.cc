@@ -21,6 +21,7 @@
 #include "io/prediction_file.h"
 #include "motionfork/motionfork.h"
 #include "pipeline/export.h"
+#include "pipeline/motion_input.h"
 #include "pipeline/predict.h"
 #include "positions.h"
 #include "torch_util/threads.h"
@@ -109,10 +110,12 @@ struct Model::Impl {
   PoseValidator bundle_judge;  // the bundle's own constraints and prior (prediction files)
   PoseValidator no_judge;      // Predict() leaves judging to Check()
   std::vector<Part> parts;
-  std::string config_dir, constraint_name, constraint_file;
+  std::string config_dir, constraint_name, constraint_file, joint_map;
   std::optional<ConstraintSet> constraints;
 
   const Skeleton& skeleton() const { return *forecaster.skeleton(); }
+
+  std::vector<float> OnModel(const Motion& m, std::vector<std::string>* notes) const;
 
   // positions: [T, J, 3] on the model's joints as a Motion (checks the size and finiteness,
   // naming the frame and joint of a bad value).
@@ -152,6 +155,7 @@ Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
     impl->parts.push_back(std::move(part));
   }
   impl->config_dir = FindConfigDir(options.config_dir);
+  impl->joint_map = options.joint_map;
   impl->constraint_file = FindConstraintFile(
       options.constraints, impl->forecaster.config().protocol, impl->config_dir, bundle_dir);
   if (!impl->constraint_file.empty()) {
@@ -233,25 +237,37 @@ SampleCheck Model::CheckMotion(const std::vector<float>& positions) const {
   return impl_->CheckFrames(impl_->ToMotion(positions, "CheckMotion: positions"));
 }
 
-std::vector<float> Model::ReadMotion(const std::string& path) const {
+// `m` on the model's joints (by name, else by the roles of its rig) at its frame rate.
+std::vector<float> Model::Impl::OnModel(const Motion& m, std::vector<std::string>* notes) const {
+  SkeletonConfig onto;
+  onto.skeleton = onto.source = forecaster.skeleton();
+  pipeline::MotionInputOptions how;
+  how.config_dir = config_dir;
+  how.joint_map = joint_map;
+  pipeline::ConformedMotion c = pipeline::ConformForModel(m, {}, onto, how);
+  if (notes) *notes = std::move(c.notes);
+  const double fps = forecaster.config().fps;
+  if (std::abs(c.motion.fps() - fps) > 1e-6 * fps) c.motion = Resample(c.motion, fps);
+  return c.motion.positions();
+}
+
+std::vector<float> Model::ReadMotion(const std::string& path,
+                                     std::vector<std::string>* notes) const {
   MotionReadOptions read;
   read.skeleton = impl_->forecaster.skeleton();  // names .npy joints, maps .csv columns
   read.fps = fps();                              // for files that store no frame rate
-  SkeletonConfig onto;
-  onto.skeleton = onto.source = impl_->forecaster.skeleton();
-  Motion m = ConformToSkeleton(ReadMotionFile(path, read), onto);
-  if (std::abs(m.fps() - fps()) > 1e-6 * fps()) m = Resample(m, fps());
-  return m.positions();
+  const Motion m = ReadMotionFile(path, read);
+  try {
+    return impl_->OnModel(m, notes);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
 }
 
-std::vector<float> Model::Conform(const MotionData& motion) const {
-  Motion m = MotionFromPositions(motion.joint_names, motion.parents, motion.fps, motion.positions,
-                                 "Conform: motion");
-  SkeletonConfig onto;
-  onto.skeleton = onto.source = impl_->forecaster.skeleton();
-  m = ConformToSkeleton(m, onto);
-  if (std::abs(m.fps() - fps()) > 1e-6 * fps()) m = Resample(m, fps());
-  return m.positions();
+std::vector<float> Model::Conform(const MotionData& motion, std::vector<std::string>* notes) const {
+  return impl_->OnModel(MotionFromPositions(motion.joint_names, motion.parents, motion.fps,
+                                            motion.positions, "Conform: motion"),
+                        notes);
 }
 
 }  // namespace motionfork

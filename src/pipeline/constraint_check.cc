@@ -15,8 +15,9 @@ namespace {
 // Puts the motion on the set's own skeleton config when it names one and the motion fits it
 // (a 22-joint Bandai BVH -> the 17 protocol joints; a 17-joint .npy -> named joints); otherwise
 // the set binds to the motion's joint names as they are.
+// by_roles: the motion's joints may also map by their roles (rig conventions, its joint map).
 ConstraintCheck BindSet(const std::string& path, const Motion& motion, bool skeleton_given,
-                        const std::string& config_dir) {
+                        const std::string& config_dir, const MotionInputOptions* by_roles) {
   ConstraintCheck b;
   b.path = path;
   b.spec = LoadConstraintConfig(path);
@@ -25,7 +26,13 @@ ConstraintCheck BindSet(const std::string& path, const Motion& motion, bool skel
     try {
       const SkeletonConfig sc =
           LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", b.spec.skeleton));
-      b.motion = ConformToSkeleton(motion, sc);
+      if (by_roles) {
+        ConformedMotion c = ConformForModel(motion, {}, sc, *by_roles);
+        b.motion = std::move(c.motion);
+        b.notes = std::move(c.notes);
+      } else {
+        b.motion = ConformToSkeleton(motion, sc);
+      }
     } catch (const std::invalid_argument&) {
       // Not that skeleton's joints: bind by the motion's own names below.
     }
@@ -46,26 +53,32 @@ ConstraintCheck ChooseSet(const LoadedMotion& lm, const std::string& file,
   const bool skeleton_given = lm.skeleton_config.has_value();
   if (!constraints.empty()) {
     return BindSet(ResolveConfigPath(config_dir, "constraints", constraints), motion,
-                   skeleton_given, config_dir);
+                   skeleton_given, config_dir, &lm.options);
   }
   if (skeleton_given) {
     // The shipped set named like the skeleton (bandai, h36m, humaneva), if there is one.
     const std::filesystem::path shipped = std::filesystem::path(config_dir) / "constraints" /
                                           (lm.skeleton_config->skeleton->name() + ".yaml");
     if (std::filesystem::is_regular_file(shipped)) {
-      return BindSet(shipped.string(), motion, skeleton_given, config_dir);
+      return BindSet(shipped.string(), motion, skeleton_given, config_dir, nullptr);
     }
   }
-  // Detect: the shipped sets whose joints the motion has.
+  // Detect: the shipped sets whose joints the motion has; failing those, the ones its joints map
+  // onto by their roles (another rig's names).
   std::vector<ConstraintCheck> fits;
   std::string names;
-  for (const std::string& name : ListConfigs(config_dir, "constraints")) {
-    names += (names.empty() ? "" : ", ") + name;
-    try {
-      fits.push_back(BindSet(ResolveConfigPath(config_dir, "constraints", name), motion,
-                             skeleton_given, config_dir));
-    } catch (const std::exception&) {
-      // Does not fit this motion.
+  for (const MotionInputOptions* by_roles :
+       {static_cast<const MotionInputOptions*>(nullptr), &lm.options}) {
+    if (!fits.empty()) break;
+    names.clear();
+    for (const std::string& name : ListConfigs(config_dir, "constraints")) {
+      names += (names.empty() ? "" : ", ") + name;
+      try {
+        fits.push_back(BindSet(ResolveConfigPath(config_dir, "constraints", name), motion,
+                               skeleton_given, config_dir, by_roles));
+      } catch (const std::exception&) {
+        // Does not fit this motion.
+      }
     }
   }
   if (fits.size() == 1) return std::move(fits.front());

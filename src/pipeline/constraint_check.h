@@ -18,6 +18,7 @@ struct ConstraintCheck {
   std::string path;  // the constraint YAML
   ConstraintSetSpec spec;
   Motion motion;  // as the set sees it (on the set's skeleton config when it names one)
+  std::vector<std::string> notes;  // how the motion's joints were mapped onto the set's
   std::optional<ConstraintSet> set;
   CheckResult result;
   CheckSummary summary;

@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "config/config_paths.h"
+#include "config/rig_config.h"
 #include "core/error.h"
 #include "core/resample.h"
 #include "imputation/occlusion.h"
 #include "io/motion_file.h"
+#include "rig/joint_mapping.h"
 
 namespace motionfork::pipeline {
 
@@ -50,11 +53,61 @@ std::optional<SkeletonConfig> NamedSkeleton(const Motion& motion, const std::str
   return std::nullopt;
 }
 
+// "A <- B, C <- D" for the target joints whose source is not the joint of the same name.
+std::string MappingText(const Skeleton& to, const JointMapping& m) {
+  std::string text;
+  for (int j = 0; j < to.num_joints(); ++j) {
+    const std::string& from = m.described[static_cast<size_t>(j)];
+    if (from == to.joint_name(j)) continue;
+    text += (text.empty() ? "" : ", ") + to.joint_name(j) + " <- " + from;
+  }
+  return text;
+}
+
 }  // namespace
+
+ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>& missing,
+                                const SkeletonConfig& onto, const MotionInputOptions& options) {
+  const Skeleton& have = motion.skeleton();
+  const bool named = !(have.is_anonymous() && have.joint_name(0) == "j0");
+  if (options.joint_map.empty() || !named) {
+    try {
+      ConformedMotion out{ConformToSkeleton(motion, onto), {}, {}};
+      if (!missing.empty()) out.missing = ConformMask(motion, missing, onto);
+      return out;
+    } catch (const std::invalid_argument&) {
+      if (!named) throw;  // no names to map by: the count error says what fits
+      // Other names: read them by their roles below.
+    }
+  }
+  const std::vector<RigConvention> conventions = LoadRigConventions(options.config_dir);
+  std::optional<RigConvention> forced;
+  if (!options.joint_map.empty()) {
+    forced = LoadRigConvention(ResolveConfigPath(options.config_dir, "rigs", options.joint_map));
+  }
+  const JointMapping m = MapJoints(have, *onto.skeleton, conventions, forced ? &*forced : nullptr);
+  ConformedMotion out{ApplyJointMapping(motion, m, onto.skeleton), {}, {}};
+  if (!missing.empty()) out.missing = ApplyJointMapping(missing, m);
+  std::string note = "joints read as the " + m.source_rig + " rig onto skeleton '" +
+                     onto.skeleton->name() + "' (" + std::to_string(onto.skeleton->num_joints()) +
+                     " joints)";
+  const std::string changed = MappingText(*onto.skeleton, m);
+  if (!changed.empty()) note += ": " + changed;
+  out.notes.push_back(note);
+  if (!m.ignored.empty()) {
+    std::string list;
+    for (size_t i = 0; i < m.ignored.size() && i < 8; ++i) list += (i ? ", " : "") + m.ignored[i];
+    if (m.ignored.size() > 8) list += ", ...";
+    out.notes.push_back(std::to_string(m.ignored.size()) + " joint" +
+                        (m.ignored.size() == 1 ? "" : "s") + " of the file not used: " + list);
+  }
+  return out;
+}
 
 LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& options,
                              std::vector<uint8_t>* missing) {
   LoadedMotion out;
+  out.options = options;
   MotionReadOptions read;
   read.bvh.scale_to_metres = options.bvh_scale;
   read.fps = options.fps > 0 ? options.fps : 30.0;
@@ -88,7 +141,14 @@ MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOpti
   onto.skeleton = skeleton;
   onto.source = lm.skeleton_config ? lm.skeleton_config->source : skeleton;
   if (lm.skeleton_config) onto.selection = lm.skeleton_config->selection;
-  MotionWithGaps out{ConformToSkeleton(lm.motion, onto), ConformMask(lm.motion, missing, onto)};
+  ConformedMotion conformed;
+  try {
+    conformed = ConformForModel(lm.motion, missing, onto, options);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+  MotionWithGaps out{std::move(conformed.motion), std::move(conformed.missing), 0,
+                     std::move(conformed.notes)};
   out.motion = Motion(skeleton, out.motion.fps(), out.motion.positions());
   if (std::abs(out.motion.fps() - fps) > 1e-6 * fps) {
     out.resampled_from = out.motion.fps();

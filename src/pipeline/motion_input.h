@@ -22,12 +22,16 @@ struct MotionInputOptions {
   double fps = 0;           // Hz, for files that store none; 0 = 30 Hz for those
   double bvh_scale = 0.01;  // BVH length unit in metres (0.01: centimetres)
   std::string config_dir;   // the configs folder `skeleton` is looked up in
+  // How a file whose joint names are not the model's maps onto it: "" = the rig convention
+  // (configs/rigs/) that explains the file's names; else a convention name or a joint map YAML.
+  std::string joint_map;
 };
 
 struct LoadedMotion {
   Motion motion;
   std::optional<SkeletonConfig> skeleton_config;  // when MotionInputOptions::skeleton was given
-  bool fps_assumed = false;  // the file stores no frame rate and none was given
+  bool fps_assumed = false;    // the file stores no frame rate and none was given
+  MotionInputOptions options;  // as it was read (its joint map applies to later mappings)
 };
 
 // Reads the file; with options.skeleton, puts it on that skeleton (selection, re-ordering). With
@@ -41,11 +45,25 @@ LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& 
 std::vector<uint8_t> ConformMask(const Motion& motion, const std::vector<uint8_t>& missing,
                                  const SkeletonConfig& config);
 
+// A motion (and its missing-value mask, [T, J, 3], or empty) put on `onto`'s skeleton: by the
+// skeleton's own joint names (ConformToSkeleton) when the motion has them, else by the roles of
+// its joints (rig/joint_mapping.h) under the conventions of options.config_dir/rigs or
+// options.joint_map (which, when given, is always used). `notes` say how it was mapped, for
+// people. Throws std::invalid_argument saying which joints or roles are missing.
+struct ConformedMotion {
+  Motion motion;
+  std::vector<uint8_t> missing;
+  std::vector<std::string> notes;
+};
+ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>& missing,
+                                const SkeletonConfig& onto, const MotionInputOptions& options);
+
 // A motion on a model's skeleton and frame rate, with its missing values.
 struct MotionWithGaps {
-  Motion motion;                 // [T, J, 3] metres; missing values hold 0
-  std::vector<uint8_t> missing;  // [T, J, 3], 1 = missing
-  double resampled_from = 0;     // Hz of the file when it was resampled to the model's, else 0
+  Motion motion;                   // [T, J, 3] metres; missing values hold 0
+  std::vector<uint8_t> missing;    // [T, J, 3], 1 = missing
+  double resampled_from = 0;       // Hz of the file when it was resampled to the model's, else 0
+  std::vector<std::string> notes;  // how its joints were mapped (ConformForModel), for people
 };
 
 // Reads `path` (missing values allowed), maps it onto `skeleton` by joint names (or the

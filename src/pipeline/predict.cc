@@ -180,6 +180,7 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
     HistoryInput& in = inputs[static_cast<size_t>(i)];
     PredictNotes n = notes;
     n.resampled_from = in.motion.resampled_from;
+    n.input = in.motion.notes;
     const Prediction p =
         PredictFutures(model, files.model_dir, validator, std::move(in), files.request, repair);
     std::lock_guard<std::mutex> guard(lock);

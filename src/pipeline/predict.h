@@ -66,9 +66,10 @@ struct PredictFiles {
 
 // What the run saw on the way, for the caller to report.
 struct PredictNotes {
-  double resampled_from = 0;  // Hz of the history file when it was resampled to the model's
-  bool angle_ranges = false;  // the bundle's constraint set judged the futures
-  bool prior = false;         // the bundle's pose prior scored them
+  double resampled_from = 0;       // Hz of the history file when it was resampled to the model's
+  std::vector<std::string> input;  // how the history's joints were mapped (ConformForModel)
+  bool angle_ranges = false;       // the bundle's constraint set judged the futures
+  bool prior = false;              // the bundle's pose prior scored them
 };
 
 // Loads the bundles, reads the history and runs PredictFutures.

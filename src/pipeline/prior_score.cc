@@ -11,7 +11,7 @@
 namespace motionfork::pipeline {
 
 Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
-                       const std::string& config_dir) {
+                       const std::string& config_dir, std::vector<std::string>* notes) {
   const Motion& m = lm.motion;
   const Skeleton& want = prior.skeleton();
   if (m.skeleton().SameStructure(want)) return m;
@@ -43,6 +43,21 @@ Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
       } catch (const std::invalid_argument&) {
         // Not this skeleton's joints: reported below.
       }
+    }
+  }
+  if (!(m.skeleton().is_anonymous() && m.skeleton().joint_name(0) == "j0") && !lm.skeleton_config) {
+    // Another rig's names: by the roles of its joints.
+    SkeletonConfig onto;
+    onto.source = onto.skeleton = prior.skeleton_ptr();
+    MotionInputOptions how = lm.options;
+    how.config_dir = config_dir;
+    try {
+      ConformedMotion c = ConformForModel(m, {}, onto, how);
+      if (notes) *notes = std::move(c.notes);
+      return std::move(c.motion);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("the prior expects poses of skeleton '" + want.name() + "' (" +
+                                  std::to_string(want.num_joints()) + " joints); " + e.what());
     }
   }
   if (m.skeleton().is_anonymous() && m.skeleton().joint_name(0) != "j0") {

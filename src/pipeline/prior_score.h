@@ -13,9 +13,10 @@ namespace motionfork::pipeline {
 
 // The motion on the prior's skeleton: as stored, bound by index (.npy), re-ordered by joint names,
 // or mapped through the skeleton config the prior was trained with (e.g. a Bandai BVH of 22
-// joints onto 17; looked up in config_dir). Throws std::invalid_argument saying what is expected.
+// joints onto 17; looked up in config_dir), or, for another rig's names, by their roles
+// (ConformForModel; `notes` says how). Throws std::invalid_argument saying what is expected.
 Motion OnPriorSkeleton(const LoadedMotion& loaded, const PosePrior& prior,
-                       const std::string& config_dir);
+                       const std::string& config_dir, std::vector<std::string>* notes = nullptr);
 
 struct PriorScore {
   std::vector<double> nll;  // [frames] negative log-likelihood, nats per pose

@@ -287,15 +287,15 @@ TEST_CASE("Model: errors say what was expected and what was found") {
   f.positions.pop_back();
   CHECK_THROWS_WITH(model.Check(f), Contains("expected futures [k, frames, 17, 3]"));
 
-  const Model unchecked = LoadTiny({"", "none", 0});
+  const Model unchecked = LoadTiny({"", "none", 0, ""});
   CHECK(unchecked.constraint_set().empty());
   CHECK_THROWS_AS(unchecked.Check(model.Predict(h, {2, 0, {}})), std::logic_error);
   CHECK_THROWS_WITH(unchecked.CheckMotion(h), Contains("no constraint set"));
-  CHECK_THROWS_WITH(LoadTiny({"", "elbows", 0}),
+  CHECK_THROWS_WITH(LoadTiny({"", "elbows", 0, ""}),
                     Contains("'elbows'") && Contains("bandai, h36m, humaneva"));
-  CHECK_THROWS_WITH(LoadTiny({dir.file("nowhere"), "", 0}),
+  CHECK_THROWS_WITH(LoadTiny({dir.file("nowhere"), "", 0, ""}),
                     Contains("LoadOptions::config_dir") && Contains("not a folder"));
-  CHECK_THROWS_WITH(LoadTiny({"", "", -1}), Contains("threads") && Contains("got -1"));
+  CHECK_THROWS_WITH(LoadTiny({"", "", -1, ""}), Contains("threads") && Contains("got -1"));
 }
 
 TEST_CASE("Model::Load: constraints from the option, the bundle, the configs folder") {

@@ -184,6 +184,33 @@ def test_motion_files_round_trip(tmp_path, walk):
         mf.write_motion(str(tmp_path / "x.csv"), motion.positions, joint_names=["a"])
 
 
+MIXAMO = {"Hips": "Hips", "Spine": "Spine1", "Chest": "Spine2", "Neck": "Neck", "Head": "Head",
+          "UpperLeg_L": "LeftUpLeg", "LowerLeg_L": "LeftLeg", "Foot_L": "LeftFoot",
+          "UpperLeg_R": "RightUpLeg", "LowerLeg_R": "RightLeg", "Foot_R": "RightFoot",
+          "UpperArm_L": "LeftArm", "LowerArm_L": "LeftForeArm", "Hand_L": "LeftHand",
+          "UpperArm_R": "RightArm", "LowerArm_R": "RightForeArm", "Hand_R": "RightHand"}
+
+
+def test_another_rigs_names_map_onto_the_model(model, walk, tmp_path):
+    """A Mixamo-named motion (mixamorig: prefixes, an extra finger joint) predicts as the original."""
+    motion = mf.read_motion(walk)
+    names = ["mixamorig:" + MIXAMO[n] for n in motion.joint_names] + ["mixamorig:LeftHandIndex1"]
+    parents = list(motion.parents) + [motion.joint_names.index("Hand_L")]
+    positions = np.concatenate([motion.positions, motion.positions[:, -1:] + 0.05], axis=1)
+    out = str(tmp_path / "mixamo.bvh")
+    mf.write_motion(out, positions, joint_names=names, parents=parents, fps=motion.fps)
+    mapped = model.read_motion(out)
+    assert np.allclose(mapped, model.read_motion(walk), atol=1e-5)
+    a = model.predict(mapped[:15], k=3, seed=2)
+    b = model.predict(model.read_motion(walk)[:15], k=3, seed=2)
+    assert np.allclose(a, b, atol=1e-5)
+    assert np.allclose(model.predict(mf.read_motion(out), k=3, seed=2), model.predict(mapped, k=3, seed=2),
+                       atol=1e-5)
+    forced = mf.Model.load(MODEL, threads=1, joint_map="smpl")
+    with pytest.raises(ValueError, match="read as the smpl rig, it lacks"):
+        forced.read_motion(out)
+
+
 def test_impute_and_denoise_match_the_command(tmp_path, walk):
     hgvae = os.path.join(MODEL, "hgvae")
     dvae = os.path.join(MODEL, "dvae")

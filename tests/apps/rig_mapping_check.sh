@@ -1,0 +1,36 @@
+#!/bin/sh
+# A BVH whose joints carry Mixamo's names ("mixamorig:LeftUpLeg") predicts, checks and scores
+# with the shipped Bandai model exactly as its Bandai-named twin, saying how it mapped the joints;
+# a rig no convention explains is refused with a pointer to --joint-map.
+# Usage: rig_mapping_check.sh MOTIONFORK SOURCE_DIR WORK_DIR
+set -eu
+mf=$1; src=$2; work=$3
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+"$mf" synth walk -o bandai.bvh --frames 60 >/dev/null
+sed -e 's/JOINT Hips$/JOINT mixamorig:Hips/; s/ROOT Hips$/ROOT mixamorig:Hips/' \
+    -e 's/UpperLeg_\([LR]\)$/mixamorig:\1UpLeg/; s/LowerLeg_\([LR]\)$/mixamorig:\1Leg/' \
+    -e 's/Foot_\([LR]\)$/mixamorig:\1Foot/; s/JOINT Spine$/JOINT mixamorig:Spine1/' \
+    -e 's/JOINT Chest$/JOINT mixamorig:Spine2/; s/JOINT Neck$/JOINT mixamorig:Neck/' \
+    -e 's/JOINT Head$/JOINT mixamorig:Head/; s/UpperArm_\([LR]\)$/mixamorig:\1Arm/' \
+    -e 's/LowerArm_\([LR]\)$/mixamorig:\1ForeArm/; s/Hand_\([LR]\)$/mixamorig:\1Hand/' \
+    -e 's/mixamorig:L\([A-Z]\)/mixamorig:Left\1/; s/mixamorig:R\([A-Z]\)/mixamorig:Right\1/' \
+    bandai.bvh > mixamo.bvh
+grep -q "JOINT mixamorig:LeftUpLeg" mixamo.bvh && ! grep -q "_L$" mixamo.bvh
+"$mf" predict --model "$src/models/bandai" bandai.bvh -o a -k 4 --seed 3 >/dev/null 2>&1
+"$mf" predict --model "$src/models/bandai" mixamo.bvh -o b -k 4 --seed 3 >out.txt 2>&1
+cat out.txt
+grep -q "read as the mixamo rig onto skeleton 'bandai'" out.txt
+cmp a.npy b.npy && echo "futures identical to the Bandai-named twin's"
+"$mf" check mixamo.bvh --constraints bandai >check.txt 2>&1 && grep -q "mixamo rig" check.txt
+"$mf" prior score --model "$src/models/prior-bandai" mixamo.bvh >score.txt 2>&1
+"$mf" prior score --model "$src/models/prior-bandai" bandai.bvh >score_a.txt 2>&1
+grep "mean" score.txt | head -1
+[ "$(grep -m1 "mean" score.txt | sed 's/.*mean//')" = "$(grep -m1 "mean" score_a.txt | sed 's/.*mean//')" ]
+echo "check and prior score read it too"
+sed 's/mixamorig:LeftLeg/mixamorig:KneeThing/' mixamo.bvh > odd.bvh
+if "$mf" predict --model "$src/models/bandai" odd.bvh -o c -k 2 >odd.txt 2>&1; then
+  echo "an unexplained rig was accepted"; exit 1
+fi
+cat odd.txt
+grep -q "left_knee ('LeftLeg')" odd.txt && grep -q -- "--joint-map FILE" odd.txt
+echo "all rig checks passed"
