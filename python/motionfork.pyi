@@ -37,7 +37,8 @@ def write_motion(path: str, motion: Union[Motion, ArrayLike], joint_names: Optio
 class Model:
     """A trained forecasting model (a bundle folder such as models/bandai)."""
     @staticmethod
-    def load(path: str, constraints: str = "", threads: int = 0, config_dir: str = "", joint_map: str = "") -> "Model": ...
+    def load(path: str, constraints: str = "", threads: int = 0, config_dir: str = "", joint_map: str = "",
+             unit: str = "", up: str = "", left_right: str = "") -> "Model": ...
     @property
     def joint_names(self) -> List[str]: ...
     @property

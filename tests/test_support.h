@@ -41,11 +41,14 @@ inline std::shared_ptr<const Skeleton> MakeHumanoid() {
 inline Motion MakeWalkingMotion(int frames, double fps = 30.0, unsigned seed = 7) {
   auto skel = MakeHumanoid();
   // Rest offsets from the parent, metres.
-  const float rest[17][3] = {{0, 0.95f, 0}, {-0.1f, 0, 0},  {0, -0.42f, 0},     {0, -0.42f, 0.05f},
-                             {0.1f, 0, 0},  {0, -0.42f, 0}, {0, -0.42f, 0.05f}, {0, 0.2f, 0},
-                             {0, 0.25f, 0}, {0, 0.15f, 0},  {0, 0.12f, 0.02f},  {0.18f, 0, 0},
-                             {0.28f, 0, 0}, {0.25f, 0, 0},  {-0.18f, 0, 0},     {-0.28f, 0, 0},
-                             {-0.25f, 0, 0}};
+  // The knees bend forward (6 cm in front of the hip-ankle line), as people's do: the frame
+  // detection (rig/body_frame.h) tells left from right by it.
+  const float rest[17][3] = {{0, 0.95f, 0},       {-0.1f, 0, 0},     {0, -0.42f, 0.06f},
+                             {0, -0.42f, -0.06f}, {0.1f, 0, 0},      {0, -0.42f, 0.06f},
+                             {0, -0.42f, -0.06f}, {0, 0.2f, 0},      {0, 0.25f, 0},
+                             {0, 0.15f, 0},       {0, 0.12f, 0.02f}, {0.18f, 0, 0},
+                             {0.28f, 0, 0},       {0.25f, 0, 0},     {-0.18f, 0, 0},
+                             {-0.28f, 0, 0},      {-0.25f, 0, 0}};
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> phase(0, 6.283f);
   float ph[17][3];
@@ -114,5 +117,17 @@ inline std::string SharedDataDir(const std::string& sub) {
               " is missing; CI must run the real-data tests");
   return "";
 }
+
+#ifdef MOTIONFORK_BINARY_DIR
+// The dataset cache real-data tests share: $MOTIONFORK_CACHE_DIR (scripts/test.sh sets it), else
+// one under the build folder, since CTest runs every test case in its own process (the cache
+// follows source changes).
+inline std::string TestCacheDir() {
+  const char* env = std::getenv("MOTIONFORK_CACHE_DIR");
+  return env && *env && std::string(env) != "none"
+             ? std::string(env)
+             : std::string(MOTIONFORK_BINARY_DIR) + "/test-cache";
+}
+#endif
 
 }  // namespace motionfork::testing

@@ -60,8 +60,8 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
   RequireMotion(o.motion);
   DvaeModel model = LoadDvaeModel(o.model);
   model.set_threads(WindowThreads(o.threads));
-  const MotionWithGaps in =
-      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
+  const MotionWithGaps in = LoadMotionForModel(o.motion, o.input, g, model.skeleton(),
+                                               model.manifest().fps, model.manifest().protocol);
   pipeline::RequireComplete(o.motion, in.missing,
                             "fill them first ('motionfork impute'), then denoise");
   Motion motion = in.motion;

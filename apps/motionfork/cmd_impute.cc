@@ -49,8 +49,9 @@ struct ImputeCmd {
 void RunImpute(const ImputeCmd& o, const GlobalOptions& g) {
   RequireMotion(o.motion);
   const HgvaeModel model = LoadHgvaeModel(o.model);
-  const MotionWithGaps in = LoadMotionForModel(o.motion, o.input, g, model.skeleton(),
-                                               model.manifest().fps, o.masks, o.seed);
+  const MotionWithGaps in =
+      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps,
+                         model.manifest().protocol, o.masks, o.seed);
   const ImputeOptions options = o.flags.Apply(model.manifest().impute);
   MotionImputation r;
   try {
@@ -72,8 +73,8 @@ struct OodCmd {
 void RunOod(const OodCmd& o, GlobalOptions& g) {
   RequireMotion(o.motion);
   const HgvaeModel model = LoadHgvaeModel(o.model);
-  const MotionWithGaps in =
-      LoadMotionForModel(o.motion, o.input, g, model.skeleton(), model.manifest().fps);
+  const MotionWithGaps in = LoadMotionForModel(o.motion, o.input, g, model.skeleton(),
+                                               model.manifest().fps, model.manifest().protocol);
   pipeline::RequireComplete(o.motion, in.missing,
                             "impute them first ('motionfork impute'), or score the imputed file");
   std::vector<WindowScore> scores;

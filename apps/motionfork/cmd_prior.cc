@@ -130,7 +130,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   std::vector<std::string> notes;
   const Motion motion = pipeline::OnPriorSkeleton(lm, prior, config_dir, &notes);
   for (const std::string& note : notes)
-    std::fprintf(stderr, "note: %s: %s\n", o.file.c_str(), note.c_str());
+    std::fprintf(stderr, "%s\n", pipeline::InputNoteLine(o.file, note).c_str());
   const pipeline::PriorScore s = pipeline::ScorePoses(prior, motion);
   if (o.json == "-") {
     EmitJson("-", pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));

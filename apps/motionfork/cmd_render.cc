@@ -18,7 +18,6 @@ struct RenderOptions {
   std::string out;
   int samples = 0;  // 0 = 5 in a figure, all in the viewer
   std::vector<int> pick;
-  std::string up;
   render::StripOptions
       strip;  // figure options straight from the flags (its camera serves the viewer too)
   MotionInputOptions input_options;
@@ -36,7 +35,8 @@ void RunRender(const RenderOptions& o, const GlobalOptions& g) {
   }
   if (p.k < 1) throw std::invalid_argument(o.input + ": expected at least one sample, got 0");
   render::SceneOptions scene_options;
-  if (!o.up.empty()) scene_options.up = render::ParseSignedAxis(o.up);
+  if (!o.input_options.up.empty() && o.input_options.up != "auto")
+    scene_options.up = render::ParseSignedAxis(o.input_options.up);
   const render::Scene scene = render::BuildScene(p, scene_options);
   render::PictureOptions picture_options{o.pick, o.samples, o.strip};
   if (o.strip.title.empty()) picture_options.strip.title = render::DefaultTitle(p, o.input);
@@ -79,11 +79,6 @@ futures side by side, with play/pause, a frame slider, sample selection and spee
       ->check(CLI::Range(10, 2000));
   cmd->add_option("--line-width", o->strip.line_width, "Figure: bone width in px (default 3)")
       ->check(CLI::Range(0.5, 50.0));
-  cmd->add_option("--up", o->up,
-                  "The data's up axis: x, y, z, -x, -y or -z (default: from the data, the axis "
-                  "along which the "
-                  "head is above the pelvis; Bandai/BVH is y, Human3.6M exports z)")
-      ->check(CLI::IsMember({"x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z"}, CLI::ignore_case));
   cmd->add_option("--azimuth", o->strip.camera.azimuth_deg,
                   "View around the up axis, degrees: 0 = from the front, 90 = from the body's left "
                   "(default 30)");

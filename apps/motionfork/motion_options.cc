@@ -22,8 +22,22 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
                   "joint map YAML (configs/rigs/README.md); default: the convention that explains "
                   "the file's joint names");
   cmd->add_option("--bvh-scale", o->bvh_scale,
-                  "BVH length unit in metres (0.01 = centimetres, the default; 1 = metres)")
+                  "BVH length unit in metres (0.01 = centimetres; 1 = metres); default: read as "
+                  "centimetres, and on the way onto a model the unit the body's size says")
       ->check(PositiveNumber);
+  cmd->add_option("--unit", o->unit,
+                  "Length unit of the file's values (m, cm, mm, in); default: the one that gives "
+                  "the body a human size")
+      ->check(CLI::IsMember({"auto", "m", "cm", "mm", "in"}));
+  cmd->add_option("--up", o->up,
+                  "The file's up axis (y, z, x, -y, -z, -x); default: the axis along which the "
+                  "head is above the pelvis (Bandai/BVH: y; Human3.6M exports: z)")
+      ->check(CLI::IsMember({"auto", "x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z"},
+                            CLI::ignore_case));
+  cmd->add_option("--left-right", o->left_right,
+                  "as-labelled or swapped: whether the file's left/right joint labels are right; "
+                  "default: as the body says (knees bend forward)")
+      ->check(CLI::IsMember({"auto", "as-labelled", "swapped"}));
 }
 
 MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir) {
@@ -33,12 +47,14 @@ MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config
 
 MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOptions& input,
                                   const GlobalOptions& global, const Skeleton& skeleton, double fps,
+                                  const std::string& protocol,
                                   const std::vector<std::string>& masks, uint64_t seed) {
-  MotionWithGaps in =
-      pipeline::LoadMotionWithGaps(path, WithConfigDir(input, ConfigDir(global.config_dir)),
-                                   std::make_shared<const Skeleton>(skeleton), fps, masks, seed);
+  MotionInputOptions how = WithConfigDir(input, ConfigDir(global.config_dir));
+  how.target_up = pipeline::ProtocolUp(how.config_dir, protocol);
+  MotionWithGaps in = pipeline::LoadMotionWithGaps(
+      path, how, std::make_shared<const Skeleton>(skeleton), fps, masks, seed);
   for (const std::string& note : in.notes)
-    std::fprintf(stderr, "note: %s: %s\n", path.c_str(), note.c_str());
+    std::fprintf(stderr, "%s\n", pipeline::InputNoteLine(path, note).c_str());
   NoteResampling(path, in.resampled_from, in.motion.fps());
   return in;
 }

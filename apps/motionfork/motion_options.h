@@ -26,8 +26,10 @@ MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config
 // --skeleton names looked up in the configs folder), with its mapping notes and NoteResampling's
 // note; masks as --mask
 // gives them (random ones drawn from the seed).
+// protocol: the model's (its `up` is the frame the motion is turned into).
 MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOptions& input,
                                   const GlobalOptions& global, const Skeleton& skeleton, double fps,
+                                  const std::string& protocol,
                                   const std::vector<std::string>& masks = {}, uint64_t seed = 0);
 
 // Prints "note: resampling PATH from A Hz to the model's B Hz" on stderr when the motion was

@@ -66,6 +66,10 @@ struct LoadOptions {
   // the rig convention (configs/rigs/: Mixamo, CMU, Unreal, SMPL, ...) that explains its names;
   // else a convention name or a joint map YAML (configs/rigs/README.md), always used.
   std::string joint_map;
+  // How ReadMotion() and Conform() read a motion's frame; "" = told from the body (its size, the
+  // pelvis-to-head axis, the knees), as the command does: unit "m", "cm", "mm" or "in"; up "y",
+  // "z", "x", "-y", "-z" or "-x"; left_right "as-labelled" or "swapped".
+  std::string unit, up, left_right;
 };
 
 // One body part the model samples with its own latent code.

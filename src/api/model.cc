@@ -110,12 +110,14 @@ struct Model::Impl {
   PoseValidator bundle_judge;  // the bundle's own constraints and prior (prediction files)
   PoseValidator no_judge;      // Predict() leaves judging to Check()
   std::vector<Part> parts;
-  std::string config_dir, constraint_name, constraint_file, joint_map;
+  std::string config_dir, constraint_name, constraint_file, joint_map, unit, up, left_right;
   std::optional<ConstraintSet> constraints;
 
   const Skeleton& skeleton() const { return *forecaster.skeleton(); }
 
-  std::vector<float> OnModel(const Motion& m, std::vector<std::string>* notes) const;
+  // read_scale: metres per file unit the values were read with (rig/body_frame.h).
+  std::vector<float> OnModel(const Motion& m, std::vector<std::string>* notes,
+                             double read_scale = 1.0) const;
 
   // positions: [T, J, 3] on the model's joints as a Motion (checks the size and finiteness,
   // naming the frame and joint of a bad value).
@@ -156,6 +158,9 @@ Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
   }
   impl->config_dir = FindConfigDir(options.config_dir);
   impl->joint_map = options.joint_map;
+  impl->unit = options.unit;
+  impl->up = options.up;
+  impl->left_right = options.left_right;
   impl->constraint_file = FindConstraintFile(
       options.constraints, impl->forecaster.config().protocol, impl->config_dir, bundle_dir);
   if (!impl->constraint_file.empty()) {
@@ -238,13 +243,18 @@ SampleCheck Model::CheckMotion(const std::vector<float>& positions) const {
 }
 
 // `m` on the model's joints (by name, else by the roles of its rig) at its frame rate.
-std::vector<float> Model::Impl::OnModel(const Motion& m, std::vector<std::string>* notes) const {
+std::vector<float> Model::Impl::OnModel(const Motion& m, std::vector<std::string>* notes,
+                                        double read_scale) const {
   SkeletonConfig onto;
   onto.skeleton = onto.source = forecaster.skeleton();
   pipeline::MotionInputOptions how;
   how.config_dir = config_dir;
   how.joint_map = joint_map;
-  pipeline::ConformedMotion c = pipeline::ConformForModel(m, {}, onto, how);
+  how.unit = unit;
+  how.up = up;
+  how.left_right = left_right;
+  how.target_up = pipeline::ProtocolUp(config_dir, forecaster.config().protocol);
+  pipeline::ConformedMotion c = pipeline::ConformForModel(m, {}, onto, how, read_scale);
   if (notes) *notes = std::move(c.notes);
   const double fps = forecaster.config().fps;
   if (std::abs(c.motion.fps() - fps) > 1e-6 * fps) c.motion = Resample(c.motion, fps);
@@ -258,7 +268,8 @@ std::vector<float> Model::ReadMotion(const std::string& path,
   read.fps = fps();                              // for files that store no frame rate
   const Motion m = ReadMotionFile(path, read);
   try {
-    return impl_->OnModel(m, notes);
+    return impl_->OnModel(
+        m, notes, FormatOfPath(path) == MotionFormat::kBvh ? read.bvh.scale_to_metres : 1.0);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path + ": " + e.what());
   }

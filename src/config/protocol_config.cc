@@ -1,5 +1,7 @@
 #include "config/protocol_config.h"
 
+#include <algorithm>
+
 #include "config/yaml_util.h"
 
 namespace motionfork {
@@ -26,6 +28,12 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
            "source.format: expected " + NameChoices(kSourceFormatNames) + ", found '" + fmt + "'");
     }
     o.unit_scale = GetOr<double>(path, source, "unit_scale", 1.0);
+    o.up = GetOr<std::string>(path, root, "up", "");
+    if (!o.up.empty()) {
+      static const std::vector<std::string> axes = {"x", "y", "z", "-x", "-y", "-z"};
+      if (std::find(axes.begin(), axes.end(), o.up) == axes.end())
+        Fail(path, root["up"], "up: expected x, y, z, -x, -y or -z, found '" + o.up + "'");
+    }
     o.fps = Get<double>(path, root, "fps");
     o.t_his = Get<int>(path, root, "t_his");
     o.t_pred = Get<int>(path, root, "t_pred");

@@ -28,10 +28,13 @@ struct ProtocolOptions {
   std::string skeleton;  // skeleton config name or path
   SourceFormat format = SourceFormat::kBvh;
   double unit_scale = 1.0;  // file length unit -> metres
-  double fps = 0;           // Hz
-  int t_his = 0;            // frames
-  int t_pred = 0;           // frames
-  int min_length = 0;       // frames; 0 -> t_his + t_pred
+  // The data's up axis ("y", "z", "-z", ...): the frame a model trained on it expects; motions of
+  // another frame are turned into it (rig/body_frame.h). "" = not declared: kept as they come.
+  std::string up;
+  double fps = 0;      // Hz
+  int t_his = 0;       // frames
+  int t_pred = 0;      // frames
+  int min_length = 0;  // frames; 0 -> t_his + t_pred
   RootHandling root = RootHandling::kRelativeDrop;
   std::string split_file;  // relative to the data folder unless absolute
   std::vector<std::string> train_subjects;

@@ -17,7 +17,7 @@ namespace {
 // the set binds to the motion's joint names as they are.
 // by_roles: the motion's joints may also map by their roles (rig conventions, its joint map).
 ConstraintCheck BindSet(const std::string& path, const Motion& motion, bool skeleton_given,
-                        const std::string& config_dir, const MotionInputOptions* by_roles) {
+                        const std::string& config_dir, const LoadedMotion* by_roles) {
   ConstraintCheck b;
   b.path = path;
   b.spec = LoadConstraintConfig(path);
@@ -27,7 +27,8 @@ ConstraintCheck BindSet(const std::string& path, const Motion& motion, bool skel
       const SkeletonConfig sc =
           LoadSkeletonConfig(ResolveConfigPath(config_dir, "skeletons", b.spec.skeleton));
       if (by_roles) {
-        ConformedMotion c = ConformForModel(motion, {}, sc, *by_roles);
+        ConformedMotion c = ConformForModel(motion, {}, sc, by_roles->options, by_roles->read_scale,
+                                            by_roles->unit_given);
         b.motion = std::move(c.motion);
         b.notes = std::move(c.notes);
       } else {
@@ -53,7 +54,7 @@ ConstraintCheck ChooseSet(const LoadedMotion& lm, const std::string& file,
   const bool skeleton_given = lm.skeleton_config.has_value();
   if (!constraints.empty()) {
     return BindSet(ResolveConfigPath(config_dir, "constraints", constraints), motion,
-                   skeleton_given, config_dir, &lm.options);
+                   skeleton_given, config_dir, &lm);
   }
   if (skeleton_given) {
     // The shipped set named like the skeleton (bandai, h36m, humaneva), if there is one.
@@ -67,8 +68,7 @@ ConstraintCheck ChooseSet(const LoadedMotion& lm, const std::string& file,
   // onto by their roles (another rig's names).
   std::vector<ConstraintCheck> fits;
   std::string names;
-  for (const MotionInputOptions* by_roles :
-       {static_cast<const MotionInputOptions*>(nullptr), &lm.options}) {
+  for (const LoadedMotion* by_roles : {static_cast<const LoadedMotion*>(nullptr), &lm}) {
     if (!fits.empty()) break;
     names.clear();
     for (const std::string& name : ListConfigs(config_dir, "constraints")) {

@@ -6,11 +6,13 @@
 #include <optional>
 
 #include "config/config_paths.h"
+#include "config/protocol_config.h"
 #include "config/rig_config.h"
 #include "core/error.h"
 #include "core/resample.h"
 #include "imputation/occlusion.h"
 #include "io/motion_file.h"
+#include "rig/body_frame.h"
 #include "rig/joint_mapping.h"
 
 namespace motionfork::pipeline {
@@ -66,21 +68,69 @@ std::string MappingText(const Skeleton& to, const JointMapping& m) {
 
 }  // namespace
 
+std::string ProtocolUp(const std::string& config_dir, const std::string& protocol) {
+  if (protocol.empty()) return "";
+  try {
+    return LoadProtocolConfig(ResolveConfigPath(config_dir, "protocols", protocol)).up;
+  } catch (const FormatError&) {
+    return "";  // a protocol this installation does not ship: nothing declared
+  }
+}
+
+std::string InputNoteLine(const std::string& path, const std::string& note) {
+  const std::string warning = "warning: ";
+  if (note.rfind(warning, 0) == 0) return warning + path + ": " + note.substr(warning.size());
+  return "note: " + path + ": " + note;
+}
+
+namespace {
+
+// The motion (on the model's joints, named by a convention) in the model's frame, with a note on
+// what was changed and the doubts as warnings.
+void IntoModelFrame(ConformedMotion* c, const std::vector<RigConvention>& conventions,
+                    const MotionInputOptions& options, double read_scale, bool unit_given) {
+  std::vector<std::string> roles;
+  try {
+    roles = RolesOfSkeleton(c->motion.skeleton(), conventions).roles;
+  } catch (const std::invalid_argument&) {
+    return;  // a model skeleton no convention names: its frame cannot be checked
+  }
+  BodyFrameOptions o;
+  o.read_scale = read_scale;
+  o.unit = ParseLengthUnit(options.unit);
+  if (o.unit == 0 && unit_given) o.unit = read_scale;
+  o.up = options.up;
+  o.left_right = options.left_right;
+  o.target_up = options.target_up;
+  const BodyFrame frame = DetectBodyFrame(c->motion, c->missing, roles, o);
+  for (const std::string& w : frame.warnings) c->notes.push_back("warning: " + w);
+  if (frame.IsIdentity(read_scale)) return;
+  c->motion = ToModelFrame(c->motion, frame, roles, c->missing.empty() ? nullptr : &c->missing);
+  c->notes.push_back("read as " + frame.Describe());
+}
+
+}  // namespace
+
 ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>& missing,
-                                const SkeletonConfig& onto, const MotionInputOptions& options) {
+                                const SkeletonConfig& onto, const MotionInputOptions& options,
+                                double read_scale, bool unit_given) {
   const Skeleton& have = motion.skeleton();
   const bool named = !(have.is_anonymous() && have.joint_name(0) == "j0");
+  const std::vector<RigConvention> conventions = LoadRigConventions(options.config_dir);
   if (options.joint_map.empty() || !named) {
+    std::optional<ConformedMotion> exact;
     try {
-      ConformedMotion out{ConformToSkeleton(motion, onto), {}, {}};
-      if (!missing.empty()) out.missing = ConformMask(motion, missing, onto);
-      return out;
+      exact = ConformedMotion{ConformToSkeleton(motion, onto), {}, {}};
+      if (!missing.empty()) exact->missing = ConformMask(motion, missing, onto);
     } catch (const std::invalid_argument&) {
       if (!named) throw;  // no names to map by: the count error says what fits
       // Other names: read them by their roles below.
     }
+    if (exact) {
+      IntoModelFrame(&*exact, conventions, options, read_scale, unit_given);
+      return std::move(*exact);
+    }
   }
-  const std::vector<RigConvention> conventions = LoadRigConventions(options.config_dir);
   std::optional<RigConvention> forced;
   if (!options.joint_map.empty()) {
     forced = LoadRigConvention(ResolveConfigPath(options.config_dir, "rigs", options.joint_map));
@@ -101,6 +151,7 @@ ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>
     out.notes.push_back(std::to_string(m.ignored.size()) + " joint" +
                         (m.ignored.size() == 1 ? "" : "s") + " of the file not used: " + list);
   }
+  IntoModelFrame(&out, conventions, options, read_scale, unit_given);
   return out;
 }
 
@@ -109,7 +160,7 @@ LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& 
   LoadedMotion out;
   out.options = options;
   MotionReadOptions read;
-  read.bvh.scale_to_metres = options.bvh_scale;
+  read.bvh.scale_to_metres = options.bvh_scale > 0 ? options.bvh_scale : 0.01;
   read.fps = options.fps > 0 ? options.fps : 30.0;
   if (!options.skeleton.empty()) {
     out.skeleton_config =
@@ -119,6 +170,10 @@ LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& 
   read.missing = missing;
   out.motion = ReadMotionFile(path, read);
   if (format == MotionFormat::kNpy && options.fps <= 0) out.fps_assumed = true;
+  if (format == MotionFormat::kBvh) {
+    out.read_scale = read.bvh.scale_to_metres;
+    out.unit_given = options.bvh_scale > 0;
+  }
   if (!out.skeleton_config && format == MotionFormat::kCsv) {
     if (const auto named = NamedSkeleton(out.motion, options.config_dir)) {
       if (missing) *missing = ConformMask(out.motion, *missing, *named);
@@ -143,7 +198,7 @@ MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOpti
   if (lm.skeleton_config) onto.selection = lm.skeleton_config->selection;
   ConformedMotion conformed;
   try {
-    conformed = ConformForModel(lm.motion, missing, onto, options);
+    conformed = ConformForModel(lm.motion, missing, onto, options, lm.read_scale, lm.unit_given);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path + ": " + e.what());
   }

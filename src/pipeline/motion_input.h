@@ -18,20 +18,36 @@ namespace motionfork::pipeline {
 
 // How to read a motion file (the commands' --skeleton, --fps, --bvh-scale).
 struct MotionInputOptions {
-  std::string skeleton;     // skeleton config name or YAML path; "" = as stored in the file
-  double fps = 0;           // Hz, for files that store none; 0 = 30 Hz for those
-  double bvh_scale = 0.01;  // BVH length unit in metres (0.01: centimetres)
-  std::string config_dir;   // the configs folder `skeleton` is looked up in
+  std::string skeleton;  // skeleton config name or YAML path; "" = as stored in the file
+  double fps = 0;        // Hz, for files that store none; 0 = 30 Hz for those
+  // BVH length unit in metres; 0 = read as centimetres (0.01), the unit then checked against the
+  // body's size when the motion is put on a model (ConformForModel). > 0: that unit, not checked.
+  double bvh_scale = 0;
+  std::string config_dir;  // the configs folder `skeleton` is looked up in
   // How a file whose joint names are not the model's maps onto it: "" = the rig convention
   // (configs/rigs/) that explains the file's names; else a convention name or a joint map YAML.
   std::string joint_map;
+  // The file's frame on the way onto a model (rig/body_frame.h): "" = detected from the body.
+  std::string unit;        // "m", "cm", "mm", "in" (metres per unit as the file stores them)
+  std::string up;          // "y", "z", "x", "-y", "-z", "-x": the file's up axis
+  std::string left_right;  // "as-labelled" or "swapped"
+  // The model's up axis (its protocol's `up`, ProtocolUp); "" = a motion keeps its own.
+  std::string target_up;
 };
+
+// The `up` of protocol `protocol` (a name in config_dir/protocols or a path); "" when the protocol
+// declares none or its config is not there.
+std::string ProtocolUp(const std::string& config_dir, const std::string& protocol);
 
 struct LoadedMotion {
   Motion motion;
   std::optional<SkeletonConfig> skeleton_config;  // when MotionInputOptions::skeleton was given
   bool fps_assumed = false;    // the file stores no frame rate and none was given
   MotionInputOptions options;  // as it was read (its joint map applies to later mappings)
+  // Metres per file unit the values were read with (0.01 for a BVH by default, else 1), and
+  // whether that unit was given (--bvh-scale) rather than assumed.
+  double read_scale = 1.0;
+  bool unit_given = false;
 };
 
 // Reads the file; with options.skeleton, puts it on that skeleton (selection, re-ordering). With
@@ -48,15 +64,22 @@ std::vector<uint8_t> ConformMask(const Motion& motion, const std::vector<uint8_t
 // A motion (and its missing-value mask, [T, J, 3], or empty) put on `onto`'s skeleton: by the
 // skeleton's own joint names (ConformToSkeleton) when the motion has them, else by the roles of
 // its joints (rig/joint_mapping.h) under the conventions of options.config_dir/rigs or
-// options.joint_map (which, when given, is always used). `notes` say how it was mapped, for
-// people. Throws std::invalid_argument saying which joints or roles are missing.
+// options.joint_map (which, when given, is always used); then in the model's frame (metres, Y up,
+// left/right as the body says: rig/body_frame.h; options.unit/up/left_right force them).
+// read_scale: metres per file unit the values were read with; unit_given: that unit is the
+// file's (not checked). `notes` say what was done, for people; those starting "warning: " are
+// doubts about the input. Throws std::invalid_argument saying which joints or roles are missing.
 struct ConformedMotion {
   Motion motion;
   std::vector<uint8_t> missing;
   std::vector<std::string> notes;
 };
 ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>& missing,
-                                const SkeletonConfig& onto, const MotionInputOptions& options);
+                                const SkeletonConfig& onto, const MotionInputOptions& options,
+                                double read_scale = 1.0, bool unit_given = false);
+
+// "note: PATH: TEXT" or, for a note starting "warning: ", "warning: PATH: TEXT".
+std::string InputNoteLine(const std::string& path, const std::string& note);
 
 // A motion on a model's skeleton and frame rate, with its missing values.
 struct MotionWithGaps {

@@ -144,10 +144,12 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
     throw FormatError("--mask needs --impute (an HG-VAE bundle to fill the values)");
   std::vector<HistoryInput> inputs;
   bool missing_values = false;
+  MotionInputOptions input = files.input;  // histories in the frame of the model's protocol
+  input.target_up = ProtocolUp(input.config_dir, mc.protocol);
   for (const std::string& path : histories) {
     HistoryInput in;
-    in.motion = LoadMotionWithGaps(path, files.input, model.skeleton(), mc.fps, files.masks,
-                                   files.request.seed);
+    in.motion =
+        LoadMotionWithGaps(path, input, model.skeleton(), mc.fps, files.masks, files.request.seed);
     in.name = path;
     in.start = files.start;
     const int start = HistoryStart(in, t_his, mc.fps);

@@ -37,7 +37,7 @@ std::string PredictToFiles(const PredictFiles& files, const std::vector<std::str
   PredictManyFromFiles(
       files, histories, threads, [&](int i, const Prediction& p, const PredictNotes& notes) {
         std::string& s = texts[static_cast<size_t>(i)];
-        for (const std::string& note : notes.input) s += "note: " + p.history + ": " + note + "\n";
+        for (const std::string& note : notes.input) s += InputNoteLine(p.history, note) + "\n";
         if (notes.resampled_from > 0) {
           s += StringPrintf("note: resampled %s from %.6g Hz to the model's %.6g Hz\n",
                             p.history.c_str(), notes.resampled_from, p.fps);

@@ -51,6 +51,7 @@ Motion OnPriorSkeleton(const LoadedMotion& lm, const PosePrior& prior,
     onto.source = onto.skeleton = prior.skeleton_ptr();
     MotionInputOptions how = lm.options;
     how.config_dir = config_dir;
+    how.target_up = ProtocolUp(config_dir, prior.summary().protocol);
     try {
       ConformedMotion c = ConformForModel(m, {}, onto, how);
       if (notes) *notes = std::move(c.notes);

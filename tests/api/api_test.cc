@@ -41,6 +41,14 @@ const std::string& Bundle() {
   return path;
 }
 
+LoadOptions Options(const std::string& config_dir, const std::string& constraints, int threads) {
+  LoadOptions o;
+  o.config_dir = config_dir;
+  o.constraints = constraints;
+  o.threads = threads;
+  return o;
+}
+
 Model LoadTiny(LoadOptions options = {}) {
   if (options.config_dir.empty()) options.config_dir = MOTIONFORK_CONFIG_DIR;
   return Model::Load(Bundle(), options);
@@ -287,15 +295,15 @@ TEST_CASE("Model: errors say what was expected and what was found") {
   f.positions.pop_back();
   CHECK_THROWS_WITH(model.Check(f), Contains("expected futures [k, frames, 17, 3]"));
 
-  const Model unchecked = LoadTiny({"", "none", 0, ""});
+  const Model unchecked = LoadTiny(Options("", "none", 0));
   CHECK(unchecked.constraint_set().empty());
   CHECK_THROWS_AS(unchecked.Check(model.Predict(h, {2, 0, {}})), std::logic_error);
   CHECK_THROWS_WITH(unchecked.CheckMotion(h), Contains("no constraint set"));
-  CHECK_THROWS_WITH(LoadTiny({"", "elbows", 0, ""}),
+  CHECK_THROWS_WITH(LoadTiny(Options("", "elbows", 0)),
                     Contains("'elbows'") && Contains("bandai, h36m, humaneva"));
-  CHECK_THROWS_WITH(LoadTiny({dir.file("nowhere"), "", 0, ""}),
+  CHECK_THROWS_WITH(LoadTiny(Options(dir.file("nowhere"), "", 0)),
                     Contains("LoadOptions::config_dir") && Contains("not a folder"));
-  CHECK_THROWS_WITH(LoadTiny({"", "", -1, ""}), Contains("threads") && Contains("got -1"));
+  CHECK_THROWS_WITH(LoadTiny(Options("", "", -1)), Contains("threads") && Contains("got -1"));
 }
 
 TEST_CASE("Model::Load: constraints from the option, the bundle, the configs folder") {

@@ -22,13 +22,8 @@ const Dataset* Bandai() {
   tried = true;
   const std::string data = SharedDataDir("data/bandai");
   if (data.empty()) return nullptr;
-  // scripts/test.sh sets MOTIONFORK_CACHE_DIR; otherwise share one cache under the build folder,
-  // since CTest runs every test case in its own process (the cache follows source changes).
-  const char* env = std::getenv("MOTIONFORK_CACHE_DIR");
   DatasetLoadOptions opts;
-  opts.cache_dir = env && *env && std::string(env) != "none"
-                       ? std::string(env)
-                       : std::string(MOTIONFORK_BINARY_DIR) + "/test-cache";
+  opts.cache_dir = TestCacheDir();
   const ProtocolOptions p =
       LoadProtocolConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "protocols", "bandai"));
   ds = std::make_unique<Dataset>(LoadDataset(p, ShippedSkeleton(p.skeleton), data, opts));

@@ -158,10 +158,21 @@ TEST_CASE("prior score and sample: outputs, and exit 2 with a clear message for 
               std::make_shared<const Skeleton>(
                   Skeleton::FromParents("h36m", h36m, walk.skeleton().parents())),
               "h36m");
-  r = Motionfork("prior score " + dir.file("walk.csv") + " --model " + dir.file("h36m_prior"));
+  // Its joints' roles are known (configs/rigs/h36m.yaml): the motion is mapped onto them.
+  r = Motionfork("prior score " + dir.file("walk.csv") + " --model " + dir.file("h36m_prior") +
+                 " 2>&1");
+  CHECK(r.status == 0);
+  CHECK(r.output.find("joints read as the bandai rig onto skeleton 'h36m'") != std::string::npos);
+  // A prior whose joints no rig convention names: refused, naming it.
+  std::vector<std::string> odd;
+  for (int j = 0; j < 17; ++j) odd.push_back("bone" + std::to_string(j));
+  WriteBundle(dir.file("odd_prior"),
+              std::make_shared<const Skeleton>(
+                  Skeleton::FromParents("odd", odd, walk.skeleton().parents())),
+              "odd");
+  r = Motionfork("prior score " + dir.file("walk.csv") + " --model " + dir.file("odd_prior"));
   CHECK(r.status == 2);
-  CHECK(r.output.find("h36m") != std::string::npos);
-  CHECK(r.output.find("RHip") != std::string::npos);  // names what it expected
+  CHECK(r.output.find("expects poses of skeleton 'odd'") != std::string::npos);
   // Not a bundle.
   r = Motionfork("prior score " + dir.file("walk.csv") + " --model " + dir.path().string());
   CHECK(r.status == 2);

@@ -284,7 +284,7 @@ TEST_CASE("scene finds the up axis and turns the body to face the viewer") {
     CHECK(at("Hips", 2) == Approx(0).margin(1e-5));
     CHECK(at("Head", 1) > at("Hips", 1) + 0.5f);       // up
     CHECK(at("UpperLeg_L", 0) > at("UpperLeg_R", 0));  // the body's left is +x
-    CHECK(at("Foot_L", 2) > at("LowerLeg_L", 2));      // toes point to the viewer (+z)
+    CHECK(at("LowerLeg_L", 2) > at("Foot_L", 2));      // the knees bend to the viewer (+z)
   }
   // The option wins over the data.
   SceneOptions o;
