@@ -47,6 +47,16 @@ FloatArray AsFloats(const py::handle& value, const char* name) {
   return FloatArray::ensure(a);
 }
 
+// The doubts among the API's notes on reading a motion ("warning: ...") as Python UserWarnings.
+void WarnDoubts(const std::string& what, const std::vector<std::string>& notes) {
+  const std::string prefix = "warning: ";
+  for (const std::string& note : notes) {
+    if (note.rfind(prefix, 0) != 0) continue;
+    const std::string text = what + ": " + note.substr(prefix.size());
+    if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  }
+}
+
 // Checks that `a` has `ndims` dimensions with the last two (joints, 3) = (J, 3).
 void RequireShape(const FloatArray& a, std::vector<int> ndims, int joints, const char* name,
                   const char* layout) {
@@ -248,7 +258,9 @@ PYBIND11_MODULE(motionfork, m) {
             bool batch = false;
             if (py::isinstance<PyMotion>(history)) {
               // [T, J, 3] on the model's joints by construction (Conform checks the rest).
-              histories.push_back(model.Conform(history.cast<PyMotion>().data));
+              std::vector<std::string> notes;
+              histories.push_back(model.Conform(history.cast<PyMotion>().data, &notes));
+              WarnDoubts("motion", notes);
             } else {
               const FloatArray a = AsFloats(history, "history");
               RequireShape(a, {3, 4}, J, "history", "[T, J, 3] or [B, T, J, 3]");
@@ -330,16 +342,20 @@ PYBIND11_MODULE(motionfork, m) {
           [](const mf::Model& model, const std::string& path) {
             RequireExists(path, "motion file");
             std::vector<float> p;
+            std::vector<std::string> notes;
             {
               py::gil_scoped_release release;
-              p = model.ReadMotion(path);
+              p = model.ReadMotion(path, &notes);
             }
+            WarnDoubts(path, notes);
             const py::ssize_t J = static_cast<py::ssize_t>(model.joint_names().size());
             return ToArray(p, {FramesOf(p, J), J, 3});
           },
           py::arg("path"),
-          "Reads a motion file onto the model's joints (by name) and frame rate: float32\n"
-          "[T, J, 3], ready for predict().");
+          "Reads a motion file onto the model's joints (by name, else by the roles of its rig's\n"
+          "joints) and frame rate, in the model's frame (unit, up axis and left/right told from\n"
+          "the body): float32 [T, J, 3], ready for predict(). Doubts about the input (upside\n"
+          "down, left/right labels exchanged, no human size) are UserWarnings.");
 
   py::class_<mf::Prior>(m, "Prior", "A pose prior bundle (e.g. models/bandai/prior).")
       .def_static(

@@ -206,6 +206,15 @@ def test_another_rigs_names_map_onto_the_model(model, walk, tmp_path):
     assert np.allclose(a, b, atol=1e-5)
     assert np.allclose(model.predict(mf.read_motion(out), k=3, seed=2), model.predict(mapped, k=3, seed=2),
                        atol=1e-5)
+    # Upside down: turned over, with a UserWarning; forcing the up axis keeps it as it is.
+    flipped = str(tmp_path / "flipped.bvh")
+    mf.write_motion(flipped, motion.positions * np.array([1, -1, -1], dtype=np.float32),
+                    joint_names=motion.joint_names, parents=motion.parents, fps=motion.fps)
+    with pytest.warns(UserWarning, match="upside down"):
+        turned = model.read_motion(flipped)
+    assert np.allclose(turned, model.read_motion(walk), atol=1e-5)
+    kept = mf.Model.load(MODEL, threads=1, up="y", left_right="as-labelled").read_motion(flipped)
+    assert np.allclose(kept[..., 1], -model.read_motion(walk)[..., 1], atol=1e-5)
     forced = mf.Model.load(MODEL, threads=1, joint_map="smpl")
     with pytest.raises(ValueError, match="read as the smpl rig, it lacks"):
         forced.read_motion(out)
