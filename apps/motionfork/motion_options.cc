@@ -34,6 +34,9 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
                   "head is above the pelvis (Bandai/BVH: y; Human3.6M exports: z)")
       ->check(CLI::IsMember({"auto", "x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z"},
                             CLI::ignore_case));
+  cmd->add_flag("--strict", o->strict,
+                "Refuse (exit 2) a motion that reads with a doubt (upside down, left/right labels "
+                "exchanged, no human size in any unit) instead of warning and going on");
   cmd->add_option("--left-right", o->left_right,
                   "as-labelled or swapped: whether the file's left/right joint labels are right; "
                   "default: as the body says (knees bend forward)")

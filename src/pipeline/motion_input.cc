@@ -202,6 +202,13 @@ MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOpti
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path + ": " + e.what());
   }
+  if (options.strict) {
+    for (const std::string& note : conformed.notes) {
+      if (note.rfind("warning: ", 0) == 0) {
+        throw FormatError(path + ": " + note.substr(9) + " (--strict: refused)");
+      }
+    }
+  }
   MotionWithGaps out{std::move(conformed.motion), std::move(conformed.missing), 0,
                      std::move(conformed.notes)};
   out.motion = Motion(skeleton, out.motion.fps(), out.motion.positions());

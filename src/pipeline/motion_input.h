@@ -33,6 +33,9 @@ struct MotionInputOptions {
   std::string left_right;  // "as-labelled" or "swapped"
   // The model's up axis (its protocol's `up`, ProtocolUp); "" = a motion keeps its own.
   std::string target_up;
+  // A doubt about the motion on the way onto a model (a "warning: " note: upside down, left/right
+  // exchanged, no human size) is an error instead (FormatError naming the file).
+  bool strict = false;
 };
 
 // The `up` of protocol `protocol` (a name in config_dir/protocols or a path); "" when the protocol

@@ -33,4 +33,13 @@ if "$mf" predict --model "$src/models/bandai" odd.bvh -o c -k 2 >odd.txt 2>&1; t
 fi
 cat odd.txt
 grep -q "left_knee ('LeftLeg')" odd.txt && grep -q -- "--joint-map FILE" odd.txt
+# Left and right labels exchanged: warned and exchanged back (the same futures); --strict refuses.
+sed -e 's/_L$/_TMP/; s/_R$/_L/; s/_TMP$/_R/' bandai.bvh > mirrored.bvh
+"$mf" predict --model "$src/models/bandai" mirrored.bvh -o m -k 4 --seed 3 >mirrored.txt 2>&1
+grep -q "^warning: mirrored.bvh: the left/right labels disagree with the body" mirrored.txt
+cmp a.npy m.npy && echo "mirrored labels exchanged back: the same futures"
+if "$mf" predict --model "$src/models/bandai" mirrored.bvh -o s -k 2 --strict >strict.txt 2>&1; then
+  echo "--strict accepted a doubtful history"; exit 1
+fi
+grep -q -- "--strict: refused" strict.txt && [ ! -e s.npy ]
 echo "all rig checks passed"
