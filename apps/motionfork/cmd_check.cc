@@ -35,8 +35,7 @@ void RunCheck(const CheckOptions& o, GlobalOptions& g) {
   if (!o.angles_csv.empty()) {
     WriteFileAtomically(o.angles_csv, pipeline::AnglesCsv(*b.set, b.result, b.motion.fps()));
   }
-  for (const std::string& note : b.notes)
-    std::fprintf(stderr, "%s\n", pipeline::InputNoteLine(o.file, note).c_str());
+  PrintInputNotes(o.file, b.notes);
   if (o.json != "-") PrintText(pipeline::ConstraintCheckText(o.file, b));
   EmitJson(o.json, pipeline::ConstraintCheckJson(o.file, b));
   g.exit_code = b.summary.valid_frames == b.summary.frames ? kExitOk : kExitInvalidFrames;

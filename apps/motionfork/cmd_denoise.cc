@@ -6,10 +6,6 @@
 #include "app_common.h"
 #include "bundle/dvae_bundle.h"
 #include "commands.h"
-#include "core/error.h"
-#include "core/motion_noise.h"
-#include "denoise/denoise_metrics.h"
-#include "denoise/denoised_motion_text.h"
 #include "denoise/dvae_model.h"
 #include "denoise/training/dvae_evaluation.h"
 #include "denoise/training/dvae_evaluation_json.h"
@@ -19,6 +15,7 @@
 #include "generator/training/history_forecaster.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
+#include "pipeline/denoise_file.h"
 #include "torch_util/threads.h"
 
 namespace motionfork::app {
@@ -64,40 +61,14 @@ void RunDenoise(const DenoiseCmd& o, const GlobalOptions& g) {
                                                model.manifest().fps, model.manifest().protocol);
   pipeline::RequireComplete(o.motion, in.missing,
                             "fill them first ('motionfork impute'), then denoise");
-  Motion motion = in.motion;
-  if (!o.noise.empty()) {
-    NoiseSpec spec;
-    try {
-      spec = ParseNoiseSpec(o.noise);
-    } catch (const std::invalid_argument& e) {
-      throw FormatError(std::string("--add-noise: ") + e.what());
-    }
-    motion = AddNoise(motion, spec, o.noise_seed);
-    std::printf("added %s noise (seed %llu) before denoising\n", o.noise.c_str(),
-                static_cast<unsigned long long>(o.noise_seed));
-  }
-  if (motion.num_frames() < 2)
-    throw FormatError(o.motion + ": expected at least 2 frames, found " +
-                      std::to_string(motion.num_frames()));
   const DenoiseOptions options = o.flags.Apply(model.manifest().denoise);
-  DenoiseStats stats;
-  Motion out;
-  try {
-    ProgressBar bar(std::string("denoising (") + ToString(options.mode) + ")", !g.quiet);
-    out = DenoiseMotion(model, motion, options, &stats, [&bar](double f) { bar.Update(f); });
-    bar.Finish();
-  } catch (const std::invalid_argument& e) {
-    throw FormatError(o.motion + ": " + e.what());
-  }
-  WriteMotionFile(o.out, out);
-  PrintText(DenoisedMotionText(model, options, stats, motion, out));
-  if (!o.noise.empty()) {
-    std::printf("against the file before --add-noise: noisy %.2f cm, denoised %.2f cm per joint\n",
-                100 * MeanJointError(motion.positions(), in.motion.positions()),
-                100 * MeanJointError(out.positions(), in.motion.positions()));
-  }
-  PrintText(NoiseModelText(model, stats));
-  std::printf("wrote %s (%d frames, %.6g Hz)\n", o.out.c_str(), out.num_frames(), out.fps());
+  ProgressBar bar(std::string("denoising (") + ToString(options.mode) + ")", !g.quiet);
+  const pipeline::DenoisedFile d =
+      pipeline::DenoiseFile(model, o.motion, in.motion, o.noise, o.noise_seed, options,
+                            [&bar](double f) { bar.Update(f); });
+  bar.Finish();
+  WriteMotionFile(o.out, d.denoised);
+  PrintText(pipeline::DenoisedFileText(model, d, o.out));
 }
 
 // ---- dvae eval ----

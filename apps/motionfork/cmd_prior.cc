@@ -129,8 +129,7 @@ void RunScore(const ScoreOptions& o, const GlobalOptions& g) {
   const LoadedMotion lm = pipeline::LoadMotionInput(o.file, WithConfigDir(o.input, config_dir));
   std::vector<std::string> notes;
   const Motion motion = pipeline::OnPriorSkeleton(lm, prior, config_dir, &notes);
-  for (const std::string& note : notes)
-    std::fprintf(stderr, "%s\n", pipeline::InputNoteLine(o.file, note).c_str());
+  PrintInputNotes(o.file, notes);
   const pipeline::PriorScore s = pipeline::ScorePoses(prior, motion);
   if (o.json == "-") {
     EmitJson("-", pipeline::PriorScoreJson(o.file, o.model, prior, motion, s));

@@ -17,30 +17,22 @@ void AddMotionInputOptions(CLI::App* cmd, MotionInputOptions* o) {
                   "default 30")
       ->check(PositiveNumber);
   cmd->add_option("--joint-map", o->joint_map,
-                  "How a file's joints map onto the model's when their names differ: a rig "
-                  "convention (bandai, mixamo, cmu, unreal, unreal5, smpl, h36m, humaneva) or a "
-                  "joint map YAML (configs/rigs/README.md); default: the convention that explains "
-                  "the file's joint names");
-  cmd->add_option("--bvh-scale", o->bvh_scale,
-                  "BVH length unit in metres (0.01 = centimetres; 1 = metres); default: read as "
-                  "centimetres, and on the way onto a model the unit the body's size says")
+                  "Rig convention (mixamo, cmu, smpl, ...; configs/rigs/) or joint map YAML for "
+                  "joints named unlike the model's; default: detected from the names");
+  cmd->add_option(
+         "--bvh-scale", o->bvh_scale,
+         "BVH unit in metres (0.01 = cm); default: read as cm, then as the body's size says")
       ->check(PositiveNumber);
-  cmd->add_option("--unit", o->unit,
-                  "Length unit of the file's values (m, cm, mm, in); default: the one that gives "
-                  "the body a human size")
+  cmd->add_option("--unit", o->unit, "The file's unit; default: the one giving a human size")
       ->check(CLI::IsMember({"auto", "m", "cm", "mm", "in"}));
-  cmd->add_option("--up", o->up,
-                  "The file's up axis (y, z, x, -y, -z, -x); default: the axis along which the "
-                  "head is above the pelvis (Bandai/BVH: y; Human3.6M exports: z)")
+  cmd->add_option("--up", o->up, "The file's up axis; default: the pelvis-to-head axis")
       ->check(CLI::IsMember({"auto", "x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z"},
                             CLI::ignore_case));
-  cmd->add_flag("--strict", o->strict,
-                "Refuse (exit 2) a motion that reads with a doubt (upside down, left/right labels "
-                "exchanged, no human size in any unit) instead of warning and going on");
   cmd->add_option("--left-right", o->left_right,
-                  "as-labelled or swapped: whether the file's left/right joint labels are right; "
-                  "default: as the body says (knees bend forward)")
+                  "Whether the file's left/right labels hold; default: as the knees say")
       ->check(CLI::IsMember({"auto", "as-labelled", "swapped"}));
+  cmd->add_flag("--strict", o->strict,
+                "Refuse (exit 2) a motion read with a doubt (upside down, sides exchanged, ...)");
 }
 
 MotionInputOptions WithConfigDir(MotionInputOptions o, const std::string& config_dir) {
@@ -56,10 +48,14 @@ MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOpti
   how.target_up = pipeline::ProtocolUp(how.config_dir, protocol);
   MotionWithGaps in = pipeline::LoadMotionWithGaps(
       path, how, std::make_shared<const Skeleton>(skeleton), fps, masks, seed);
-  for (const std::string& note : in.notes)
-    std::fprintf(stderr, "%s\n", pipeline::InputNoteLine(path, note).c_str());
+  PrintInputNotes(path, in.notes);
   NoteResampling(path, in.resampled_from, in.motion.fps());
   return in;
+}
+
+void PrintInputNotes(const std::string& path, const std::vector<std::string>& notes) {
+  for (const std::string& note : notes)
+    std::fprintf(stderr, "%s\n", pipeline::InputNoteLine(path, note).c_str());
 }
 
 void NoteResampling(const std::string& path, double from_fps, double to_fps) {

@@ -32,6 +32,9 @@ MotionWithGaps LoadMotionForModel(const std::string& path, const MotionInputOpti
                                   const std::string& protocol,
                                   const std::vector<std::string>& masks = {}, uint64_t seed = 0);
 
+// Prints how a motion was read (pipeline::InputNoteLine per note) on stderr.
+void PrintInputNotes(const std::string& path, const std::vector<std::string>& notes);
+
 // Prints "note: resampling PATH from A Hz to the model's B Hz" on stderr when the motion was
 // resampled on the way in (from_fps > 0).
 void NoteResampling(const std::string& path, double from_fps, double to_fps);

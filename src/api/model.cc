@@ -110,7 +110,10 @@ struct Model::Impl {
   PoseValidator bundle_judge;  // the bundle's own constraints and prior (prediction files)
   PoseValidator no_judge;      // Predict() leaves judging to Check()
   std::vector<Part> parts;
-  std::string config_dir, constraint_name, constraint_file, joint_map, unit, up, left_right;
+  std::string config_dir, constraint_name, constraint_file;
+  // How ReadMotion() and Conform() put a motion on the model (LoadOptions' joint map and frame,
+  // the protocol's up axis), set once at Load.
+  pipeline::MotionInputOptions read_as;
   std::optional<ConstraintSet> constraints;
 
   const Skeleton& skeleton() const { return *forecaster.skeleton(); }
@@ -157,10 +160,13 @@ Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
     impl->parts.push_back(std::move(part));
   }
   impl->config_dir = FindConfigDir(options.config_dir);
-  impl->joint_map = options.joint_map;
-  impl->unit = options.unit;
-  impl->up = options.up;
-  impl->left_right = options.left_right;
+  impl->read_as.config_dir = impl->config_dir;
+  impl->read_as.joint_map = options.joint_map;
+  impl->read_as.unit = options.unit;
+  impl->read_as.up = options.up;
+  impl->read_as.left_right = options.left_right;
+  impl->read_as.target_up =
+      pipeline::ProtocolUp(impl->config_dir, impl->forecaster.config().protocol);
   impl->constraint_file = FindConstraintFile(
       options.constraints, impl->forecaster.config().protocol, impl->config_dir, bundle_dir);
   if (!impl->constraint_file.empty()) {
@@ -247,14 +253,7 @@ std::vector<float> Model::Impl::OnModel(const Motion& m, std::vector<std::string
                                         double read_scale) const {
   SkeletonConfig onto;
   onto.skeleton = onto.source = forecaster.skeleton();
-  pipeline::MotionInputOptions how;
-  how.config_dir = config_dir;
-  how.joint_map = joint_map;
-  how.unit = unit;
-  how.up = up;
-  how.left_right = left_right;
-  how.target_up = pipeline::ProtocolUp(config_dir, forecaster.config().protocol);
-  pipeline::ConformedMotion c = pipeline::ConformForModel(m, {}, onto, how, read_scale);
+  pipeline::ConformedMotion c = pipeline::ConformForModel(m, {}, onto, read_as, read_scale);
   if (notes) *notes = std::move(c.notes);
   const double fps = forecaster.config().fps;
   if (std::abs(c.motion.fps() - fps) > 1e-6 * fps) c.motion = Resample(c.motion, fps);

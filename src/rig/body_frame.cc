@@ -87,17 +87,23 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Median over frames of leg + trunk length, in the values' unit; 0 when the roles are absent.
-double BodySize(const Frames& f, const Roles& roles) {
-  std::vector<int> trunk;
-  for (const char* r : {"pelvis", "spine", "chest", "neck", "head"})
-    if (auto j = roles(r)) trunk.push_back(*j);
+// (hip, knee, ankle) of each side the roles name completely.
+std::vector<std::array<int, 3>> Legs(const Roles& roles) {
   std::vector<std::array<int, 3>> legs;
   for (const char* side : {"left_", "right_"}) {
     const auto hip = roles(std::string(side) + "hip"), knee = roles(std::string(side) + "knee"),
                ankle = roles(std::string(side) + "ankle");
     if (hip && knee && ankle) legs.push_back({*hip, *knee, *ankle});
   }
+  return legs;
+}
+
+// Median over frames of leg + trunk length, in the values' unit; 0 when the roles are absent.
+double BodySize(const Frames& f, const Roles& roles) {
+  std::vector<int> trunk;
+  for (const char* r : {"pelvis", "spine", "chest", "neck", "head"})
+    if (auto j = roles(r)) trunk.push_back(*j);
+  const std::vector<std::array<int, 3>> legs = Legs(roles);
   if (trunk.size() < 2 || legs.empty()) return 0;
   std::vector<double> sizes;
   for (int t = 0; t < f.motion.num_frames(); ++t) {
@@ -181,12 +187,7 @@ std::optional<std::pair<double, double>> KneeEvidence(const Frames& f, const Rol
                                                       const BodyFrame& frame) {
   const auto lh = roles("left_hip"), rh = roles("right_hip");
   if (!lh || !rh) return std::nullopt;
-  std::vector<std::array<int, 3>> legs;
-  for (const char* side : {"left_", "right_"}) {
-    const auto hip = roles(std::string(side) + "hip"), knee = roles(std::string(side) + "knee"),
-               ankle = roles(std::string(side) + "ankle");
-    if (hip && knee && ankle) legs.push_back({*hip, *knee, *ankle});
-  }
+  const std::vector<std::array<int, 3>> legs = Legs(roles);
   if (legs.empty()) return std::nullopt;
   auto at = [&](int t, int j) {
     Vec p = Rotate(f.At(t, j), frame.up_axis, frame.up_sign);
