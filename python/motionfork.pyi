@@ -14,6 +14,12 @@ class SampleCheck(TypedDict):
     undefined_frames: List[int]
     violated_constraints: List[str]
     nll: Optional[float]
+    failed: List[str]
+
+class HistoryDoubts(TypedDict):
+    doubts: List[str]
+    window_score: Optional[float]
+    window_bound: Optional[float]
 
 class Motion:
     """A motion with its skeleton, as read_motion returns it."""
@@ -57,9 +63,12 @@ class Model:
     def constraint_set(self) -> str: ...
     @property
     def has_prior(self) -> bool: ...
+    @property
+    def prior_bound(self) -> Optional[float]: ...
     def predict(self, history: Union[Motion, ArrayLike], k: int = 50, seed: int = 0,
                 fix: Sequence[str] = (), repair: bool = True) -> npt.NDArray[np.float32]: ...
     def check(self, motions: ArrayLike) -> List[SampleCheck]: ...
+    def check_history(self, history: ArrayLike) -> HistoryDoubts: ...
     def read_motion(self, path: str) -> npt.NDArray[np.float32]: ...
 
 class Prior:

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -133,6 +134,7 @@ py::dict CheckDict(const mf::SampleCheck& c) {
   d["violating_frames"] = c.violating_frames;
   d["undefined_frames"] = c.undefined_frames;
   d["violated_constraints"] = c.violated_constraints;
+  d["failed"] = c.failed;
   return d;
 }
 
@@ -311,20 +313,17 @@ PYBIND11_MODULE(motionfork, m) {
             const py::ssize_t K = a.ndim() == 4 ? a.shape(0) : 1,
                               per = a.size() / std::max<py::ssize_t>(K, 1);
             std::vector<mf::SampleCheck> checks;
-            std::vector<double> nll;
             {
               std::vector<std::vector<float>> samples;
               for (py::ssize_t i = 0; i < K; ++i) samples.push_back(ToVector(a, i * per, per));
               py::gil_scoped_release release;
-              for (const auto& s : samples) {
-                checks.push_back(model.CheckMotion(s));
-                if (model.has_prior()) nll.push_back(model.MeanPriorNll(s));
-              }
+              for (const auto& s : samples) checks.push_back(model.CheckMotion(s));
             }
             py::list out;
-            for (size_t i = 0; i < checks.size(); ++i) {
-              py::dict d = CheckDict(checks[i]);
-              d["nll"] = nll.empty() ? py::object(py::none()) : py::object(py::float_(nll[i]));
+            for (const mf::SampleCheck& c : checks) {
+              py::dict d = CheckDict(c);
+              d["nll"] = std::isnan(c.prior_nll) ? py::object(py::none())
+                                                 : py::object(py::float_(c.prior_nll));
               out.append(d);
             }
             return out;
@@ -335,8 +334,45 @@ PYBIND11_MODULE(motionfork, m) {
           "for the predicted frames only) or one [T, J, 3]. Returns a list with a dict per "
           "motion:\n"
           "valid, violating_frames, undefined_frames, violated_constraints (frames counted from\n"
-          "the motion's first) and nll (mean prior negative log-likelihood per pose, nats; None\n"
-          "without a prior).")
+          "the motion's first), nll (mean prior negative log-likelihood per pose, nats; None\n"
+          "without a prior) and failed: the tests it fails ('angle_ranges', 'prior_nll': nll\n"
+          "above prior_bound). valid: it fails none.")
+      .def_property_readonly(
+          "prior_bound",
+          [](const mf::Model& model) -> py::object {
+            const double b = model.prior_bound();
+            return std::isnan(b) ? py::object(py::none()) : py::object(py::float_(b));
+          },
+          "the bound on a motion's mean prior NLL for check() to call it valid (the 99th\n"
+          "percentile of real held-out poses); None without a prior")
+      .def(
+          "check_history",
+          [](const mf::Model& model, const py::object& history) {
+            const int J = static_cast<int>(model.joint_names().size());
+            const FloatArray a = AsFloats(history, "history");
+            RequireShape(a, {3}, J, "history", "[T, J, 3]");
+            const std::vector<float> h = ToVector(a, 0, a.size());
+            mf::HistoryDoubts c;
+            {
+              py::gil_scoped_release release;
+              c = model.CheckHistory(h);
+            }
+            py::dict d;
+            const auto number = [](double x) {
+              return std::isnan(x) ? py::object(py::none()) : py::object(py::float_(x));
+            };
+            d["window_score"] = number(c.window_score);
+            d["window_bound"] = number(c.window_bound);
+            d["doubts"] = c.doubts;
+            return d;
+          },
+          py::arg("history"),
+          "The plausibility gate `motionfork predict` runs on a history [T, J, 3] (metres, the\n"
+          "model's joints and frame; its last history_frames frames): a dict with doubts (a list\n"
+          "of what is off, for people: 'scale: ...', 'axis: ...', 'left/right: ...', 'joint ...',\n"
+          "'angle ranges: ...', 'prior: ...', 'HG-VAE: ...'; empty when it looks like what the\n"
+          "model knows) and the HG-VAE window_score against its window_bound (None without an\n"
+          "HG-VAE in the bundle).")
       .def(
           "read_motion",
           [](const mf::Model& model, const std::string& path) {

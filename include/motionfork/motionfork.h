@@ -29,6 +29,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -127,9 +128,10 @@ struct BvhExportOptions {
   std::string rotation_order = "ZXY";  // rotation channels' axis order, a permutation of XYZ
 };
 
-// Angle-range check of one motion (e.g. one future), frame by frame.
+// Check of one motion (e.g. one future): angle ranges frame by frame, and the pose prior.
 struct SampleCheck {
-  // Every angle of every frame is defined and inside its range.
+  // Every angle of every frame is defined and inside its range, and the mean prior NLL is within
+  // the prior's bound (when the bundle has a prior).
   bool valid = true;
   // Frames (0 = the first frame checked) where some angle is outside its range.
   std::vector<int> violating_frames;
@@ -138,6 +140,24 @@ struct SampleCheck {
   std::vector<int> undefined_frames;
   // Names of the constraints violated in some frame, in the set's order (e.g. "Leg2ThighPlane_L").
   std::vector<std::string> violated_constraints;
+  // The bundle's pose prior (has_prior()): the mean negative log-likelihood per pose, nats (NaN
+  // without a prior), and whether it lies within the prior's bound (prior_bound()); a sample
+  // above it is not valid either.
+  double prior_nll = std::numeric_limits<double>::quiet_NaN();
+  bool prior_ok = true;
+  // The tests it fails, in this order: "angle_ranges" (violating or undefined frames),
+  // "prior_nll"; empty when valid.
+  std::vector<std::string> failed;
+};
+
+// What CheckHistory() finds before forecasting: the HG-VAE window score of the history against
+// its out-of-distribution bound (NaN when the bundle has no HG-VAE, BUNDLE/hgvae) and the doubts,
+// for people ("scale: ...", "axis: ...", "left/right: ...", "joint Hand_L: ...", "angle ranges:
+// ...", "prior: ...", "HG-VAE: ..."). Futures of a doubted history are not to be trusted.
+struct HistoryDoubts {
+  double window_score = std::numeric_limits<double>::quiet_NaN();
+  double window_bound = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::string> doubts;  // empty: the history looks like what the model knows
 };
 
 // A trained forecasting model: a bundle folder (model.yaml + generator.pt, as written by
@@ -182,12 +202,18 @@ class Model {
   // part is unknown (listing the known parts).
   Futures Predict(const std::vector<float>& history, const PredictOptions& options = {}) const;
 
-  // Checks every future against the constraint set: one SampleCheck per sample, frames counted
-  // from the first future frame. Throws std::logic_error when the model has no constraint set,
-  // std::invalid_argument when futures do not match the model's joints.
+  // Checks every future against the constraint set and the bundle's prior (when it has one): one
+  // SampleCheck per sample, frames counted from the first future frame. Throws std::logic_error
+  // when the model has no constraint set, std::invalid_argument when futures do not match the
+  // model's joints.
   std::vector<SampleCheck> Check(const Futures& futures) const;
   // The same for any motion on the model's joints (e.g. the history): [T, J, 3] metres.
   SampleCheck CheckMotion(const std::vector<float>& positions) const;
+  // The plausibility gate `motionfork predict` runs: the last history_frames() frames of
+  // `history` ([T, J, 3] metres, the model's joints and frame, as Predict() takes it) scored by
+  // the bundle's HG-VAE, prior and angle ranges, its body measured (size, up axis, left/right,
+  // bones). Throws std::invalid_argument like Predict() for a bad history.
+  HistoryDoubts CheckHistory(const std::vector<float>& history) const;
 
   // Reads a motion file (.bvh in centimetres, .npy [T, J, 3] metres in joint_names() order, .csv
   // as written by `motionfork convert`), keeps the model's joints (by name; a Bandai BVH's 22
@@ -211,6 +237,9 @@ class Model {
   std::vector<double> PriorNll(const std::vector<float>& positions) const;
   // Their mean over the frames: the figure `motionfork check` and the prediction file report.
   double MeanPriorNll(const std::vector<float>& positions) const;
+  // The bound on a sample's mean prior NLL for it to be valid: the 99th percentile of the NLL of
+  // real held-out poses (the prior's training summary); NaN without a prior or that figure.
+  double prior_bound() const;
 
   // Writes futures as `motionfork predict -o OUT` does: OUT.npy [k, history_frames + frames, J, 3]
   // and OUT.json (skeleton, parts, each future's validity under the bundle's own constraints and

@@ -4,10 +4,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 
 #include "bundle/generator_bundle.h"
+#include "bundle/hgvae_bundle.h"
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
 #include "config/skeleton_config.h"
@@ -17,10 +20,13 @@
 #include "core/error.h"
 #include "core/resample.h"
 #include "generator/inference/forecaster.h"
+#include "imputation/hgvae_model.h"
 #include "io/motion_file.h"
 #include "io/prediction_file.h"
 #include "motionfork/motionfork.h"
 #include "pipeline/export.h"
+#include "pipeline/history_check.h"
+#include "pipeline/history_repair.h"
 #include "pipeline/motion_input.h"
 #include "pipeline/predict.h"
 #include "positions.h"
@@ -128,6 +134,20 @@ struct Model::Impl {
     return MotionFromPositions(forecaster.skeleton(), forecaster.config().fps, positions, who);
   }
 
+  // The bundle's HG-VAE (BUNDLE/hgvae), loaded at the first CheckHistory; null when there is none.
+  const HgvaeModel* Scorer() const {
+    std::call_once(scorer_loaded, [&] {
+      const fs::path dir = fs::path(bundle_dir) / "hgvae";
+      if (fs::is_regular_file(dir / "hgvae.yaml")) {
+        scorer.emplace(LoadHgvaeModel(dir.string()));
+        pipeline::CheckImputerFits(*scorer, dir.string(), forecaster);
+      }
+    });
+    return scorer ? &*scorer : nullptr;
+  }
+  mutable std::once_flag scorer_loaded;
+  mutable std::optional<HgvaeModel> scorer;
+
   SampleCheck CheckFrames(const Motion& motion) const {
     if (!constraints) {
       throw std::logic_error(
@@ -136,7 +156,17 @@ struct Model::Impl {
           forecaster.config().protocol +
           "', or LoadOptions::constraints was \"none\"); name one in LoadOptions::constraints");
     }
-    return ToSampleCheck(*constraints, motionfork::Check(*constraints, motion));
+    SampleCheck out = ToSampleCheck(*constraints, motionfork::Check(*constraints, motion));
+    if (bundle_judge.has_prior()) {
+      const SampleValidity v = bundle_judge.Score(motion.positions().data(), motion.num_frames());
+      out.prior_nll = v.prior_nll.value_or(std::numeric_limits<double>::quiet_NaN());
+      out.prior_ok = v.prior_ok;
+    }
+    if (!out.violating_frames.empty() || !out.undefined_frames.empty())
+      out.failed.push_back("angle_ranges");
+    if (!out.prior_ok) out.failed.push_back("prior_nll");
+    out.valid = out.failed.empty();
+    return out;
   }
 };
 
@@ -248,6 +278,27 @@ SampleCheck Model::CheckMotion(const std::vector<float>& positions) const {
   return impl_->CheckFrames(impl_->ToMotion(positions, "CheckMotion: positions"));
 }
 
+HistoryDoubts Model::CheckHistory(const std::vector<float>& history) const {
+  const Motion motion = impl_->ToMotion(history, "CheckHistory: history");
+  if (motion.num_frames() < history_frames()) {
+    throw std::invalid_argument("CheckHistory: expected a history of at least " +
+                                std::to_string(history_frames()) + " frames, got " +
+                                std::to_string(motion.num_frames()));
+  }
+  const Motion last = motion.Slice(motion.num_frames() - history_frames(), motion.num_frames());
+  const PoseValidator& judge = impl_->bundle_judge;
+  const pipeline::HistoryGate gate =
+      pipeline::GateForModel(impl_->forecaster, impl_->config_dir, impl_->Scorer(), false);
+  const HistoryCheck c =
+      pipeline::CheckHistory(last, judge.Score(last.positions().data(), last.num_frames()), judge,
+                             gate.scorer, gate.roles, gate.target_up);
+  HistoryDoubts out;
+  out.window_score = c.window_score.value_or(out.window_score);
+  out.window_bound = c.window_bound.value_or(out.window_bound);
+  out.doubts = c.doubts;
+  return out;
+}
+
 // `m` on the model's joints (by name, else by the roles of its rig) at its frame rate.
 std::vector<float> Model::Impl::OnModel(const Motion& m, std::vector<std::string>* notes,
                                         double read_scale) const {
@@ -298,6 +349,10 @@ std::vector<float> Futures::Sequence(int i) const {
 
 bool Model::has_prior() const { return impl_->bundle_judge.has_prior(); }
 
+double Model::prior_bound() const {
+  return impl_->bundle_judge.prior_bound().value_or(std::numeric_limits<double>::quiet_NaN());
+}
+
 std::vector<double> Model::PriorNll(const std::vector<float>& positions) const {
   if (!has_prior()) {
     throw std::logic_error("PriorNll: the bundle '" + impl_->bundle_dir +
@@ -341,9 +396,13 @@ Prediction ToPrediction(const Futures& f, const Forecaster& forecaster, const st
 
 std::string Model::WritePrediction(const std::string& out, const Futures& futures,
                                    const PredictOptions& options) const {
-  return motionfork::WritePrediction(
-      out,
-      ToPrediction(futures, impl_->forecaster, impl_->bundle_dir, impl_->bundle_judge, options));
+  Prediction p =
+      ToPrediction(futures, impl_->forecaster, impl_->bundle_dir, impl_->bundle_judge, options);
+  // The history's doubts and the futures' validity as `motionfork predict` writes them.
+  pipeline::GateHistory(
+      impl_->forecaster, impl_->bundle_judge,
+      pipeline::GateForModel(impl_->forecaster, impl_->config_dir, impl_->Scorer(), false), {}, &p);
+  return motionfork::WritePrediction(out, p);
 }
 
 std::vector<std::string> Model::ExportBvh(const std::string& out, const Futures& futures,

@@ -1,5 +1,6 @@
 #include "io/prediction_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -23,10 +24,14 @@ std::string StripExtension(const std::string& path) {
   return path;
 }
 
+// JSON has no NaN: a missing figure is null.
+json OptionalNumber(const std::optional<double>& x) {
+  return x && std::isfinite(*x) ? json(*x) : json(nullptr);
+}
+
 json ValidityJson(const SampleValidity& v) {
-  json j = {{"valid", v.valid}, {"violating_frames", v.violating_frames}};
-  // JSON has no NaN: a missing figure is null.
-  j["prior_nll"] = v.prior_nll && std::isfinite(*v.prior_nll) ? json(*v.prior_nll) : json(nullptr);
+  json j = {{"valid", v.valid}, {"failed", v.Failed()}, {"violating_frames", v.violating_frames}};
+  j["prior_nll"] = OptionalNumber(v.prior_nll);
   return j;
 }
 
@@ -48,10 +53,32 @@ SampleValidity ValidityFromJson(const json& j, const std::string& file) {
   v.violating_frames = Get<int>(j, "violating_frames", file);
   if (j.contains("prior_nll") && !j.at("prior_nll").is_null())
     v.prior_nll = Get<double>(j, "prior_nll", file);
+  // Files written before "failed" judged the angle ranges only.
+  const auto failed = j.contains("failed") ? Get<std::vector<std::string>>(j, "failed", file)
+                                           : std::vector<std::string>{};
+  const auto fails = [&](const char* judge) {
+    return std::find(failed.begin(), failed.end(), judge) != failed.end();
+  };
+  v.prior_ok = !fails("prior_nll");
+  v.history_ok = !fails("history");
   return v;
 }
 
+std::optional<double> OptionalNumberFromJson(const json& j, const std::string& key,
+                                             const std::string& file) {
+  if (!j.contains(key) || j.at(key).is_null()) return std::nullopt;
+  return Get<double>(j, key, file);
+}
+
 }  // namespace
+
+std::vector<std::string> SampleValidity::Failed() const {
+  std::vector<std::string> failed;
+  if (violating_frames > 0) failed.push_back("angle_ranges");
+  if (!prior_ok) failed.push_back("prior_nll");
+  if (!history_ok) failed.push_back("history");
+  return failed;
+}
 
 std::string WritePrediction(const std::string& out, const Prediction& p) {
   if (!p.skeleton) throw std::invalid_argument("WritePrediction: the prediction has no skeleton");
@@ -94,7 +121,13 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   j["fixed_parts"] = p.fixed_parts;
   j["array"] = std::filesystem::path(base + ".npy").filename().string();
   j["shape"] = {p.k, T, J, 3};
+  if (p.prior_bound) j["prior_nll_bound"] = OptionalNumber(p.prior_bound);
   if (p.history_validity) j["history_validity"] = ValidityJson(*p.history_validity);
+  if (const auto& c = p.history_check) {
+    j["history_check"] = {{"window_score", OptionalNumber(c->window_score)},
+                          {"window_bound", OptionalNumber(c->window_bound)},
+                          {"doubts", c->doubts}};
+  }
   if (p.denoising) {
     j["denoising"] = {{"model", p.denoising->model},
                       {"mode", p.denoising->mode},
@@ -199,6 +232,13 @@ Prediction ParsePrediction(const json& j, const std::string& base, const std::st
   p.fixed_parts = j.value("fixed_parts", std::vector<std::string>{});
   if (j.contains("history_validity"))
     p.history_validity = ValidityFromJson(j["history_validity"], json_path);
+  p.prior_bound = OptionalNumberFromJson(j, "prior_nll_bound", json_path);
+  if (j.contains("history_check")) {
+    const json& c = j["history_check"];
+    p.history_check = HistoryCheck{OptionalNumberFromJson(c, "window_score", json_path),
+                                   OptionalNumberFromJson(c, "window_bound", json_path),
+                                   Get<std::vector<std::string>>(c, "doubts", json_path)};
+  }
   if (j.contains("imputation")) {
     const json& im = j["imputation"];
     p.imputation = HistoryImputation{im.value("model", std::string()),

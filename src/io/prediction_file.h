@@ -5,8 +5,10 @@
 //   OUT.json  the description: model, protocol, history file, start frame, K, seed, fps, t_his,
 //             t_pred, the skeleton (joint names, parent indices, left/right pairs, body parts in
 //             prediction order), the fixed parts, the array's file name and shape, and one entry
-//             per sample with its validity (angle ranges) and mean prior NLL when the bundle has
-//             them.
+//             per sample with its validity: valid, the judges it fails ("failed": angle_ranges,
+//             prior_nll, history), its violating frames and mean prior NLL when the bundle has
+//             them; the prior's bound (prior_nll_bound) and what was checked of the history
+//             (history_validity, history_check: the HG-VAE window score and the doubts).
 #pragma once
 
 #include <memory>
@@ -20,9 +22,24 @@ namespace motionfork {
 
 // Per-sample plausibility figures over the sample's future frames.
 struct SampleValidity {
-  bool valid = true;                // no future frame violates an angle range
+  // Passes every judge that is on: no angle range violated, the mean prior NLL within the prior's
+  // bound, and (futures) a history without doubts.
+  bool valid = true;
   int violating_frames = 0;         // future frames with at least one violation
   std::optional<double> prior_nll;  // mean over future frames of the pose prior's NLL
+  bool prior_ok = true;             // prior_nll <= the prior's bound (true when either is unknown)
+  bool history_ok = true;           // the history it continues raised no doubt (HistoryCheck)
+  // The judges it fails, in this order: "angle_ranges", "prior_nll", "history"; empty when valid.
+  std::vector<std::string> Failed() const;
+};
+
+// What the history was found to be before forecasting (pipeline/history_check.h): its HG-VAE
+// window score against the bundle's out-of-distribution bound, and every doubt, for people
+// ("scale: ...", "axis: ...", "angle ranges: ...").
+struct HistoryCheck {
+  std::optional<double> window_score;  // the HG-VAE's posterior score (higher = more typical)
+  std::optional<double> window_bound;  // below it, a window is out of distribution
+  std::vector<std::string> doubts;     // empty: the history looks like what the model knows
 };
 
 // When the history had missing values filled by an HG-VAE (predict --impute).
@@ -55,8 +72,10 @@ struct Prediction {
   std::vector<float> positions;         // [K, t_his + t_pred, J, 3]
   std::vector<SampleValidity> samples;  // K entries, or empty when validity was not computed
   std::optional<SampleValidity> history_validity;  // the same figures for the history frames
-  std::optional<HistoryImputation> imputation;     // the history's missing values were imputed
-  std::optional<HistoryDenoising> denoising;  // the history was denoised (after any imputation)
+  std::optional<double> prior_bound;          // the prior's bound on a mean NLL (its held-out q99)
+  std::optional<HistoryCheck> history_check;  // doubts about the history, when checked
+  std::optional<HistoryImputation> imputation;  // the history's missing values were imputed
+  std::optional<HistoryDenoising> denoising;    // the history was denoised (after any imputation)
 
   int frames() const { return t_his + t_pred; }
   int joints() const { return skeleton ? skeleton->num_joints() : 0; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -9,11 +10,14 @@
 #include "bundle/dvae_bundle.h"
 #include "bundle/generator_bundle.h"
 #include "bundle/hgvae_bundle.h"
+#include "config/rig_config.h"
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "denoise/dvae_model.h"
 #include "imputation/hgvae_model.h"
+#include "pipeline/history_check.h"
 #include "pipeline/history_repair.h"
+#include "rig/joint_mapping.h"
 #include "validity/pose_validator.h"
 
 namespace motionfork::pipeline {
@@ -53,7 +57,62 @@ void RequireImputer(const std::string& name, int start, int t_his, int missing, 
                     "models/bandai/hgvae) to fill them");
 }
 
+const std::string kWarning = "warning: ";
+
+// The HG-VAE bundle that scores histories at the gate, or "".
+std::string ScorerDir(const PredictFiles& files) {
+  if (files.scorer_dir == "none") return "";
+  if (!files.scorer_dir.empty()) return files.scorer_dir;
+  if (!files.imputer_dir.empty()) return files.imputer_dir;
+  const std::filesystem::path own = std::filesystem::path(files.model_dir) / "hgvae";
+  return std::filesystem::is_regular_file(own / "hgvae.yaml") ? own.string() : "";
+}
+
+// The model's joints' roles under the shipped rig conventions; empty when none names them.
+std::vector<std::string> ModelRoles(const Skeleton& skeleton, const std::string& config_dir) {
+  try {
+    return RolesOfSkeleton(skeleton, LoadRigConventions(config_dir)).roles;
+  } catch (const std::invalid_argument&) {
+    return {};
+  }
+}
+
 }  // namespace
+
+void GateHistory(const Forecaster& model, const PoseValidator& judge, const HistoryGate& gate,
+                 const std::vector<std::string>& read_notes, Prediction* p) {
+  if (!gate.on) return;
+  const size_t size = static_cast<size_t>(p->t_his) * p->joints() * 3;
+  const std::vector<float> history(p->positions.begin(), p->positions.begin() + size);
+  p->history_check = CheckHistory(Motion(model.skeleton(), p->fps, history),
+                                  p->history_validity.value_or(SampleValidity{}), judge,
+                                  gate.scorer, gate.roles, gate.target_up);
+  // Doubts raised while reading the file (turned over, sides exchanged) count too.
+  for (const std::string& note : read_notes) {
+    if (note.rfind(kWarning, 0) == 0)
+      p->history_check->doubts.push_back(kReadingDoubt + note.substr(kWarning.size()));
+  }
+  const std::vector<std::string>& doubts = p->history_check->doubts;
+  if (gate.strict && !doubts.empty()) {
+    std::string text;
+    for (const std::string& d : doubts) text += "; " + d;
+    throw FormatError(p->history + ": the history (frames " + std::to_string(p->start_frame) +
+                      ".." + std::to_string(p->start_frame + p->t_his - 1) +
+                      ") is far from what the model knows" + text + " (--strict: refused)");
+  }
+  MarkFuturesOfDoubtedHistory(p);
+}
+
+HistoryGate GateForModel(const Forecaster& model, const std::string& config_dir,
+                         const HgvaeModel* scorer, bool strict) {
+  HistoryGate gate;
+  gate.on = true;
+  gate.scorer = scorer;
+  gate.roles = ModelRoles(*model.skeleton(), config_dir);
+  gate.target_up = ProtocolUp(config_dir, model.config().protocol);
+  gate.strict = strict;
+  return gate;
+}
 
 Prediction AssemblePrediction(const Forecaster& model, const std::string& model_dir,
                               const std::vector<float>& history, const std::vector<float>& futures,
@@ -77,6 +136,7 @@ Prediction AssemblePrediction(const Forecaster& model, const std::string& model_
   p.t_pred = mc.generator.t_pred;
   p.seed = request.seed;
   p.fps = mc.fps;
+  p.prior_bound = judge.prior_bound();
   p.skeleton = model.skeleton();
   p.fixed_parts = request.fixed_parts;
   p.positions.reserve(static_cast<size_t>(p.k) * (history.size() + future_size));
@@ -97,7 +157,8 @@ Prediction AssemblePrediction(const Forecaster& model, const std::string& model_
 
 Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
                           const PoseValidator& validator, HistoryInput in,
-                          const ForecastRequest& request, const HistoryRepair& repair) {
+                          const ForecastRequest& request, const HistoryRepair& repair,
+                          const HistoryGate& gate) {
   const ModelConfig& mc = model.config();
   const int t_his = mc.generator.t_his;
   const int start = HistoryStart(in, t_his, mc.fps);
@@ -119,6 +180,7 @@ Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
   Prediction p = AssemblePrediction(model, model_dir, f.history, f.futures, request, validator);
   p.history = in.name;
   p.start_frame = start;
+  GateHistory(model, validator, gate, in.motion.notes, &p);
   p.imputation = imputation;
   p.denoising = denoising;
   return p;
@@ -158,8 +220,8 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
     missing_values = missing_values || missing > 0;
     inputs.push_back(std::move(in));
   }
-  // The HG-VAE is loaded only when history frames have missing values.
-  std::optional<HgvaeModel> imputer;
+  // The HG-VAE is loaded only when history frames have missing values or the gate scores with it.
+  std::optional<HgvaeModel> imputer, scorer;
   std::optional<DvaeModel> denoiser;
   HistoryRepair repair;
   if (missing_values) {
@@ -167,6 +229,18 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
     repair.imputer = &*imputer;
     repair.imputer_dir = files.imputer_dir;
   }
+  HistoryGate gate;
+  const std::string scorer_dir = files.gate ? ScorerDir(files) : "";
+  if (!scorer_dir.empty()) {
+    if (scorer_dir == files.imputer_dir && imputer) {
+      gate.scorer = &*imputer;
+    } else {
+      scorer.emplace(LoadHgvaeModel(scorer_dir));
+      CheckImputerFits(*scorer, scorer_dir, model);
+      gate.scorer = &*scorer;
+    }
+  }
+  if (files.gate) gate = GateForModel(model, input.config_dir, gate.scorer, input.strict);
   if (!files.denoiser_dir.empty()) {
     denoiser.emplace(LoadDvaeModel(files.denoiser_dir));
     repair.denoiser = &*denoiser;
@@ -177,14 +251,15 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
   PredictNotes notes;
   notes.angle_ranges = validator.has_constraints();
   notes.prior = validator.has_prior();
+  if (gate.scorer) notes.scorer = scorer_dir;
   std::mutex lock;
   ParallelFor(static_cast<int>(inputs.size()), threads, [&](int i, int) {
     HistoryInput& in = inputs[static_cast<size_t>(i)];
     PredictNotes n = notes;
     n.resampled_from = in.motion.resampled_from;
     n.input = in.motion.notes;
-    const Prediction p =
-        PredictFutures(model, files.model_dir, validator, std::move(in), files.request, repair);
+    const Prediction p = PredictFutures(model, files.model_dir, validator, std::move(in),
+                                        files.request, repair, gate);
     std::lock_guard<std::mutex> guard(lock);
     done(i, p, n);
   });
@@ -195,6 +270,9 @@ ValiditySummary Summarise(const Prediction& p) {
   double sum = 0;
   for (const SampleValidity& v : p.samples) {
     s.valid_futures += v.valid;
+    s.failing_angles += v.violating_frames > 0;
+    s.failing_prior += !v.prior_ok;
+    s.failing_history += !v.history_ok;
     sum += v.prior_nll.value_or(0.0);
   }
   if (!p.samples.empty()) s.mean_prior_nll = sum / p.samples.size();

@@ -29,6 +29,28 @@ struct HistoryRepair {
   std::string denoiser_dir;
 };
 
+// The plausibility gate before forecasting (pipeline/history_check.h); off unless `on`.
+struct HistoryGate {
+  bool on = false;
+  const HgvaeModel* scorer = nullptr;  // its window score judges the history too (may be null)
+  std::vector<std::string> roles;      // the model's joints' roles; empty: size/axis not judged
+  std::string target_up;               // the model's up axis ("" = not judged)
+  bool strict = false;                 // a doubt is a FormatError naming the history
+};
+
+// The gate as `predict` runs it, for a Prediction p (its history the first t_his frames of every
+// sample, p.history_validity as judged by `judge`): sets p->history_check (the doubts, plus those
+// among `read_notes` -- "warning: " notes of reading the file -- as kReadingDoubt ones), marks
+// the futures of a doubted history invalid, and with gate.strict throws FormatError naming
+// p->history and the doubts. Nothing when the gate is off.
+void GateHistory(const Forecaster& forecaster, const PoseValidator& judge, const HistoryGate& gate,
+                 const std::vector<std::string>& read_notes, Prediction* p);
+
+// The gate for a model: its joints' roles (shipped rig conventions in config_dir), its up axis
+// (its protocol's), and the HG-VAE `scorer` (may be null).
+HistoryGate GateForModel(const Forecaster& forecaster, const std::string& config_dir,
+                         const HgvaeModel* scorer, bool strict);
+
 // A history to forecast from, on the forecaster's skeleton and frame rate.
 struct HistoryInput {
   MotionWithGaps motion;  // the whole motion and its missing values
@@ -38,12 +60,15 @@ struct HistoryInput {
 
 // K futures of one history, each sample the history followed by its future ([K, t_his + t_pred,
 // J, 3] metres in Prediction::positions), with the validity of every future and of the history
-// when `validator` judges anything. Prediction::model is `model_dir`. Throws FormatError naming the
-// history when it is too short or has missing values and no imputer, std::invalid_argument for a
-// bad request (unknown part, k outside 1..kMaxFutures).
+// when `validator` judges anything, and the gate's doubts about the (repaired) history when it is
+// on (futures of a doubted history are not valid). Prediction::model is `model_dir`. Throws
+// FormatError naming the history when it is too short, has missing values and no imputer, or (a
+// strict gate) raises a doubt; std::invalid_argument for a bad request (unknown part, k outside
+// 1..kMaxFutures).
 Prediction PredictFutures(const Forecaster& forecaster, const std::string& model_dir,
                           const PoseValidator& validator, HistoryInput history,
-                          const ForecastRequest& request, const HistoryRepair& repair = {});
+                          const ForecastRequest& request, const HistoryRepair& repair = {},
+                          const HistoryGate& gate = {});
 
 // The prediction-file form of K futures [K, t_pred, J, 3] (metres) continuing `history`
 // [t_his, J, 3]: each sample the history then its future, with the validity of every future and
@@ -61,7 +86,11 @@ struct PredictFiles {
   std::vector<std::string> masks;  // extra missing values (needs imputer_dir)
   std::string imputer_dir;         // HG-VAE bundle, or ""
   std::string denoiser_dir;        // Motion-DVAE bundle, or ""
-  ForecastRequest request;         // k, seed, fixed parts, repair
+  // The gate scores every history with this HG-VAE bundle: "" = imputer_dir, else the model's
+  // own (MODEL/hgvae) when it has one; "none" = no window score.
+  std::string scorer_dir;
+  bool gate = true;  // check every history before forecasting (input.strict: refuse on a doubt)
+  ForecastRequest request;  // k, seed, fixed parts, repair
 };
 
 // What the run saw on the way, for the caller to report.
@@ -70,6 +99,7 @@ struct PredictNotes {
   std::vector<std::string> input;  // how the history's joints were mapped (ConformForModel)
   bool angle_ranges = false;       // the bundle's constraint set judged the futures
   bool prior = false;              // the bundle's pose prior scored them
+  std::string scorer;              // the HG-VAE bundle whose window score judged the history
 };
 
 // Loads the bundles, reads the history and runs PredictFutures.
@@ -87,10 +117,11 @@ using PredictionDone =
 void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::string>& histories,
                           int threads, const PredictionDone& done);
 
-// Per-sample summary of a prediction's validity: futures valid in every frame and the mean of
-// their prior NLLs (0 when there is no prior).
+// Per-sample summary of a prediction's validity: futures valid (every judge), how many fail
+// each judge, and the mean of their prior NLLs (0 when there is no prior).
 struct ValiditySummary {
   int valid_futures = 0;
+  int failing_angles = 0, failing_prior = 0, failing_history = 0;
   double mean_prior_nll = 0;
 };
 ValiditySummary Summarise(const Prediction& p);

@@ -42,6 +42,7 @@ std::string PredictToFiles(const PredictFiles& files, const std::vector<std::str
           s += StringPrintf("note: resampled %s from %.6g Hz to the model's %.6g Hz\n",
                             p.history.c_str(), notes.resampled_from, p.fps);
         }
+        s += HistoryDoubtsText(p);
         if (n > 1) std::filesystem::create_directories(out);
         s +=
             PredictionRepairsText(p) + PredictionWrittenText(p, WritePrediction(outs[i], p), notes);

@@ -54,6 +54,7 @@ std::string RenderViewerHtml(const Scene& scene, const ViewerOptions& options) {
     if (!scene.samples.empty()) {
       const SampleValidity& v = scene.samples[k];
       entry["valid"] = v.valid;
+      entry["failed"] = v.Failed();  // "angle_ranges", "prior_nll", "history"
       entry["violating_frames"] = v.violating_frames;
       if (v.prior_nll && std::isfinite(*v.prior_nll)) entry["prior_nll"] = *v.prior_nll;
     }

@@ -12,6 +12,20 @@
 namespace motionfork::render {
 namespace {
 
+// The judges a sample fails, short for a label: "angles 3 fr., prior, history".
+std::string FailedShort(const SampleValidity& v) {
+  std::string text;
+  for (const std::string& judge : v.Failed()) {
+    text += text.empty() ? "" : ", ";
+    if (judge == "angle_ranges") {
+      text += "angles " + std::to_string(v.violating_frames) + " fr.";
+    } else {
+      text += judge == "prior_nll" ? "prior" : judge;
+    }
+  }
+  return text;
+}
+
 // Fixed parts of the layout, px.
 constexpr int kMargin = 12;
 constexpr int kLabelWidth = 120;
@@ -260,7 +274,7 @@ class StripPainter {
            1, 1);
     std::string second;
     if (known) {
-      second = v.valid ? "valid" : "invalid (" + std::to_string(v.violating_frames) + " fr.)";
+      second = v.valid ? "valid" : "invalid: " + FailedShort(v);
       if (v.prior_nll) second += Format(", NLL %.1f", *v.prior_nll);
     } else if (scene_.t_his == 0) {
       second = Format("%.2f s", scene_.t_pred / scene_.fps);

@@ -1,5 +1,6 @@
 #include "validity/pose_validator.h"
 
+#include <cmath>
 #include <filesystem>
 
 #include "bundle/prior_bundle.h"
@@ -70,15 +71,47 @@ std::vector<double> PoseValidator::PriorNll(const float* positions, int frames) 
   return nll;
 }
 
+std::vector<std::string> PoseValidator::ViolatedConstraints(const float* positions,
+                                                            int frames) const {
+  std::vector<std::string> names;
+  if (!checker_) return names;
+  const int C = set_->num_constraints();
+  std::vector<AngleStatus> status(static_cast<size_t>(frames) * C);
+  checker_->Run(positions, frames, nullptr, status.data());
+  for (int c = 0; c < C; ++c) {
+    for (int t = 0; t < frames; ++t) {
+      if (IsViolation(status[static_cast<size_t>(t) * C + c])) {
+        names.push_back(set_->constraint(c).name);
+        break;
+      }
+    }
+  }
+  return names;
+}
+
+std::optional<double> PoseValidator::prior_bound() const {
+  if (!prior_) return std::nullopt;
+  const double q99 = prior_->summary().held_out_nll_q99;
+  return std::isfinite(q99) ? std::optional<double>(q99) : std::nullopt;
+}
+
+const std::vector<double>& PoseValidator::reference_bone_lengths() const {
+  static const std::vector<double> none;
+  return prior_ ? prior_->bone_lengths() : none;
+}
+
 SampleValidity PoseValidator::Score(const float* positions, int frames) const {
   SampleValidity v;
   for (double f : ViolationFlags(positions, frames)) v.violating_frames += f > 0 ? 1 : 0;
-  v.valid = v.violating_frames == 0;
   if (prior_ && frames > 0) {
     double sum = 0;
     for (double x : PriorNll(positions, frames)) sum += x;
     v.prior_nll = sum / frames;
+    const std::optional<double> bound = prior_bound();
+    // A NaN mean (a degenerate pose) is not within any bound.
+    v.prior_ok = !bound || *v.prior_nll <= *bound;
   }
+  v.valid = v.violating_frames == 0 && v.prior_ok;
   return v;
 }
 

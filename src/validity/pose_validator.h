@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,7 +41,15 @@ class PoseValidator {
   std::vector<double> ViolationFlags(const float* positions, int frames) const;
   // Per frame: the prior's negative log-likelihood of the pose.
   std::vector<double> PriorNll(const float* positions, int frames) const;
-  // Whole-motion summary (violating frames, valid = none; mean prior NLL when a prior is on).
+  // Names of the constraints violated in some frame, in the set's order (empty without a set).
+  std::vector<std::string> ViolatedConstraints(const float* positions, int frames) const;
+  // The prior's bound on a motion's mean NLL: the 99th percentile of its held-out real poses'
+  // NLL, from its training summary; nothing without a prior or when the summary lacks it.
+  std::optional<double> prior_bound() const;
+  // The prior's typical bone lengths ([J-1] metres, bone k ends at joint k + 1); empty without.
+  const std::vector<double>& reference_bone_lengths() const;
+  // Whole-motion summary: violating frames, mean prior NLL when a prior is on, prior_ok = that
+  // mean within prior_bound(), valid = both.
   SampleValidity Score(const float* positions, int frames) const;
 
  private:

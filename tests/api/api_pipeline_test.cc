@@ -136,6 +136,42 @@ TEST_CASE("Model::PriorNll: the shipped bundle's prior per frame, and a clear er
   CHECK_THROWS_WITH(model.PriorNll(History()), Contains("carries no pose prior"));
 }
 
+TEST_CASE(
+    "Model::CheckHistory and WritePrediction: a history in millimetres is doubted, its "
+    "futures are not valid") {
+  LoadOptions options;
+  options.config_dir = MOTIONFORK_CONFIG_DIR;
+  const std::string dir = std::string(MOTIONFORK_SOURCE_DIR) + "/models/bandai";
+  const Model shipped = Model::Load(dir, options);
+  const auto skeleton =
+      LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", "bandai")).skeleton;
+  const Motion walk = MakeDemoWalk(skeleton);
+  const HistoryDoubts fine = shipped.CheckHistory(walk.positions());
+  CHECK(fine.doubts.empty());
+  CHECK(fine.window_score > fine.window_bound);  // the bundle's HG-VAE scored it
+  CHECK(std::isfinite(shipped.prior_bound()));
+  std::vector<float> mm = walk.positions();
+  for (float& v : mm) v *= 1000;
+  const HistoryDoubts off = shipped.CheckHistory(mm);
+  REQUIRE_FALSE(off.doubts.empty());
+  CHECK_THAT(off.doubts[0], Contains("scale: ") && Contains("millimetres"));
+
+  // The prediction file written through the API carries the doubts; no future is valid.
+  const testing::TempDir tmp;
+  const std::string out = tmp.file("mm");
+  const Futures f = shipped.Predict(mm, {});
+  shipped.WritePrediction(out, f);
+  const Prediction p = ReadPrediction(out + ".json");
+  REQUIRE(p.history_check);
+  CHECK(p.history_check->doubts == off.doubts);
+  for (const SampleValidity& v : p.samples) {
+    CHECK_FALSE(v.valid);
+    CHECK_FALSE(v.history_ok);
+  }
+  REQUIRE(p.prior_bound);
+  CHECK(*p.prior_bound == Approx(shipped.prior_bound()));
+}
+
 TEST_CASE("Imputer fills exactly the NaN values and keeps the observed ones") {
   testing::TempDir dir;
   testing::WriteTinyHgvaeBundle(dir.file("hgvae"), 5, 4);

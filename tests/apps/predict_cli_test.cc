@@ -63,7 +63,9 @@ TEST_CASE("predict writes K futures with per-sample validity, --fix shares a par
   Run r = f.Predict("a");
   INFO(r.output);
   REQUIRE(r.status == 0);
-  CHECK_THAT(r.output, Contains("futures valid in every frame"));
+  // The tiny bundle's history is no human pose: the gate doubts it and no future is valid.
+  CHECK_THAT(r.output, Contains("0 of 6 futures valid (angle ranges, prior NLL <= "));
+  CHECK_THAT(r.output, Contains("far from what the model knows: angle ranges: "));
   CHECK_THAT(r.output, Contains("prior NLL"));
   const Prediction a = ReadPrediction(f.dir.file("a.json"));
   CHECK(a.k == 6);
@@ -73,13 +75,17 @@ TEST_CASE("predict writes K futures with per-sample validity, --fix shares a par
   CHECK(a.positions.size() == 6u * 15 * 17 * 3);
   REQUIRE(a.samples.size() == 6u);
   REQUIRE(a.history_validity.has_value());
+  REQUIRE(a.history_check.has_value());
+  CHECK_FALSE(a.history_check->doubts.empty());
   // The JSON's figures are the validator's own, recomputed here from the written positions.
   const PoseValidator v = PoseValidator::FromBundle(f.bundle, a.skeleton, a.fps);
   for (int k = 0; k < a.k; ++k) {
     const SampleValidity s =
         v.Score(a.sample(k) + static_cast<size_t>(a.t_his) * a.joints() * 3, a.t_pred);
     CHECK(a.samples[k].violating_frames == s.violating_frames);
-    CHECK(a.samples[k].valid == s.valid);
+    CHECK(a.samples[k].prior_ok == s.prior_ok);
+    CHECK_FALSE(a.samples[k].history_ok);  // the gate doubted the history
+    CHECK_FALSE(a.samples[k].valid);
     REQUIRE(a.samples[k].prior_nll.has_value());
     CHECK(*a.samples[k].prior_nll == Approx(*s.prior_nll).epsilon(1e-6));
   }

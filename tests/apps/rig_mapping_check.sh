@@ -42,4 +42,19 @@ if "$mf" predict --model "$src/models/bandai" mirrored.bvh -o s -k 2 --strict >s
   echo "--strict accepted a doubtful history"; exit 1
 fi
 grep -q -- "--strict: refused" strict.txt && [ ! -e s.npy ]
+# The gate: a wrong --unit or --left-right forced is warned, no future is valid, --strict refuses.
+"$mf" predict --model "$src/models/bandai" bandai.bvh -o u -k 3 --unit mm >unit.txt 2>&1
+grep "far from what the model knows: scale: " unit.txt
+grep -q "0 of 3 futures valid" unit.txt
+grep -q '"history"' u.json && grep -q '"scale: the body measures' u.json
+"$mf" predict --model "$src/models/bandai" mirrored.bvh -o l -k 3 --left-right as-labelled \
+  >labels.txt 2>&1
+grep "far from what the model knows: left/right: " labels.txt
+if "$mf" predict --model "$src/models/bandai" bandai.bvh -o v -k 2 --unit mm --strict \
+  >strict_unit.txt 2>&1; then
+  echo "--strict accepted a history the gate doubts"; exit 1
+fi
+grep -q "is far from what the model knows; scale: .*(--strict: refused)" strict_unit.txt && [ ! -e v.npy ]
+# As recorded: every judge passes, the gate says so.
+grep -q "history: no doubt" out.txt
 echo "all rig checks passed"

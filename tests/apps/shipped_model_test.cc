@@ -50,11 +50,25 @@ TEST_CASE(
   Run r = Motionfork(common + "-o " + dir.file("a"));
   INFO(r.output);
   REQUIRE(r.status == 0);
-  CHECK_THAT(r.output, Catch::Contains("50 of 50 futures valid"));
+  // Every future inside the angle ranges; the prior's bound (its q99) rejects a few unusual poses
+  // (4 of 50 on 2026-12-05).
+  CHECK_THAT(r.output, Catch::Contains(" of 50 futures valid (angle ranges, prior NLL <= "));
+  CHECK_THAT(r.output, !Catch::Contains("outside the angle ranges"));
+  CHECK_THAT(r.output, Catch::Contains("history: no doubt"));
   REQUIRE(Motionfork(common + "-o " + dir.file("b")).status == 0);
   const Prediction a = ReadPrediction(dir.file("a.json")), b = ReadPrediction(dir.file("b.json"));
   CHECK(a.positions == b.positions);
-  for (const SampleValidity& s : a.samples) CHECK(s.valid);
+  const auto count_valid = [](const Prediction& p) {
+    int valid = 0;
+    for (const SampleValidity& s : p.samples) {
+      CHECK(s.violating_frames == 0);
+      CHECK(s.history_ok);
+      CHECK(s.valid == s.prior_ok);
+      valid += s.valid;
+    }
+    return valid;
+  };
+  CHECK(count_valid(a) >= 45);
 
   r = Motionfork(common + "--fix legs -o " + dir.file("legs"));
   REQUIRE(r.status == 0);
@@ -62,7 +76,7 @@ TEST_CASE(
   const Partition& parts = legs.skeleton->GetPartition();
   CHECK(Spread(legs, parts.parts[0].joints) == 0.0);
   CHECK(Spread(legs, parts.parts[1].joints) > 0.05);  // metres: the upper bodies differ
-  for (const SampleValidity& s : legs.samples) CHECK(s.valid);
+  CHECK(count_valid(legs) >= 45);
 }
 
 TEST_CASE(

@@ -139,7 +139,7 @@ def test_check_reports_validity_and_prior_nll(model, walk):
     checks = model.check(futures[:, model.history_frames:])
     assert len(checks) == 4
     for c in checks:
-        assert set(c) == {"valid", "violating_frames", "undefined_frames", "violated_constraints", "nll"}
+        assert set(c) == {"valid", "violating_frames", "undefined_frames", "violated_constraints", "nll", "failed"}
         assert isinstance(c["valid"], bool) and np.isfinite(c["nll"])
     # A pose bent past its ranges fails, naming the frames.
     broken = futures[0, model.history_frames:].copy()
@@ -147,6 +147,22 @@ def test_check_reports_validity_and_prior_nll(model, walk):
     broken[10:, knee] += np.array([0.0, 0.5, 0.5], np.float32)
     c = model.check(broken)[0]
     assert not c["valid"] and 10 in c["violating_frames"] and c["violated_constraints"]
+    assert "angle_ranges" in c["failed"]
+    # Lying on its back (Z up read as Y up): the prior's NLL is far above its bound.
+    lying = futures[0].copy()[:, :, [0, 2, 1]] * np.array([1, -1, 1], np.float32)
+    c = model.check(lying)[0]
+    assert model.prior_bound is not None and c["nll"] > model.prior_bound
+    assert "prior_nll" in c["failed"] and not c["valid"]
+
+
+def test_check_history_names_what_is_off(model, walk):
+    history = model.read_motion(walk)[:model.history_frames]
+    fine = model.check_history(history)
+    assert fine["doubts"] == [] and fine["window_score"] > fine["window_bound"]
+    assert any(d.startswith("scale: ") and "millimetres" in d
+               for d in model.check_history(history * 1000)["doubts"])
+    lying = history[:, :, [0, 2, 1]] * np.array([1, -1, 1], np.float32)
+    assert any(d.startswith("axis: ") for d in model.check_history(lying)["doubts"])
 
 
 def test_prior_scores_poses_as_the_bundle_does(model, walk):
