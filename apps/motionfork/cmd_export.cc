@@ -13,6 +13,7 @@
 #include "io/file_util.h"
 #include "io/prediction_file.h"
 #include "pipeline/export.h"
+#include "pipeline/export_on_rig.h"
 
 namespace motionfork::app {
 namespace {
@@ -21,10 +22,11 @@ struct ExportOptions {
   std::string prediction, out;
   int sample = -1;  // -1: every sample
   std::string lengths = "mean";
+  std::string rig = "history";
   BvhWriteOptions bvh;
 };
 
-void RunExport(const ExportOptions& o, const GlobalOptions& /*global*/) {
+void RunExport(const ExportOptions& o, const GlobalOptions& global) {
   std::string ext = o.out.size() >= 4 ? o.out.substr(o.out.size() - 4) : "";
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext != ".bvh") {
@@ -34,6 +36,14 @@ void RunExport(const ExportOptions& o, const GlobalOptions& /*global*/) {
   bvh.fit.lengths = o.lengths == "exact" ? BoneLengths::kExact : BoneLengths::kMean;
   ValidateBvhWriteOptions(bvh);
   const Prediction p = ReadPrediction(o.prediction);
+  if (const std::string rig = pipeline::RigSource(p, o.rig); !rig.empty()) {
+    const pipeline::UserRig user = pipeline::ReadUserRig(rig, p, ConfigDir(global.config_dir));
+    for (const pipeline::WrittenRigSample& w :
+         pipeline::ExportPredictionOnRig(p, user, o.out, o.sample)) {
+      PrintText(pipeline::RigSampleText(w, user, p));
+    }
+    return;
+  }
   for (const pipeline::WrittenSample& w :
        pipeline::ExportPrediction(p, o.prediction, o.out, o.sample, bvh)) {
     std::printf(
@@ -51,14 +61,22 @@ void AddExportCommand(CLI::App& app, GlobalOptions& global) {
       &app, global, RunExport, "export",
       R"(Write predicted samples as BVH files of joint rotations (Blender, Maya, MotionBuilder).
 Each file holds one sample: the history, then that future. Every sample by default
-(OUT_00.bvh .. OUT_{K-1}.bvh), or one with --sample. The rest pose is the sample's mean
-pose; bones keep their mean lengths (--lengths mean), so joints move by as much as the
-prediction's bone lengths wobble (the figure printed per file); --lengths exact keeps every
-position by giving stretching bones translation channels. Check a file in Blender with
-tools/blender_check_bvh.py.)");
+(OUT_00.bvh .. OUT_{K-1}.bvh), or one with --sample.
+When the history was a BVH file (--rig history, the default), each file is on that file's own
+rig: its joint names, hierarchy, rest offsets and channels, its unit, axes and frame rate; the
+history's own frames first, then the future with the rotations of the joints the model predicts
+solved and the others (fingers, toes, twist bones) held at their last history pose. Bones stay
+rigid; the largest distance this leaves a joint from the prediction is printed per file.
+Otherwise (--rig model, or a .npy/.csv history) the file is on the model's skeleton: the rest
+pose is the sample's mean pose; bones keep their mean lengths (--lengths mean), so joints move by
+as much as the prediction's bone lengths wobble; --lengths exact keeps every position by giving
+stretching bones translation channels. Check a file in Blender with tools/blender_check_bvh.py.)");
   AddInputFile(cmd, "PREDICTION", &o->prediction,
                "Prediction written by 'motionfork predict' (.json or .npy)");
   AddOutOption(cmd, &o->out, "Output path ending in .bvh; written all-or-nothing");
+  cmd->add_option("--rig", o->rig,
+                  "The skeleton to write on: history (default: the history's own BVH rig when it "
+                  "was a BVH, else the model's), model, or a BVH file (the history file, moved)");
   cmd->add_option("--sample", o->sample, "Only this sample (0-based), written to OUT itself")
       ->check(NonNegativeNumber);
   cmd->add_option("--lengths", o->lengths,

@@ -14,13 +14,14 @@ struct PredictOptions {
   std::vector<std::string> histories;
   bool no_repair = false;
   int threads = 0;
-  std::string out;
+  std::string out, format = "npy";
 };
 
 void RunPredict(PredictOptions o, const GlobalOptions& g) {
   RequireMotion(o.histories.empty() ? "" : o.histories[0]);
   o.files.input.config_dir = ConfigDir(g.config_dir);
   o.files.request.repair = !o.no_repair;
+  o.files.bvh = o.format == "bvh";
   ProgressBar bar("predicting", o.histories.size() > 1 && !g.quiet);
   const std::string report =
       pipeline::PredictToFiles(o.files, o.histories, o.out, WindowThreads(o.threads),
@@ -37,7 +38,11 @@ void AddPredictCommand(CLI::App& app, GlobalOptions& global) {
                                     R"(Predict K futures of a history with a trained model bundle.
 Writes OUT.npy [K, t_his + t_pred, J, 3] (each sample: the history, then its future; metres;
 the root stays where the history ended: models predict root-relative poses) and OUT.json
-(skeleton, parts, and per sample: angle-range validity and mean prior NLL of its future).
+(skeleton, parts, and per sample: whether it is valid and which test it fails -- angle ranges,
+prior NLL above its bound, a doubted history -- and the mean prior NLL of its future). The
+history is checked first (size, axes, left/right, bones, the model's own scores): a doubt is a
+warning, and with --strict an error (exit 2). --format bvh also writes the samples as BVH on
+the history's own rig.
 Several files: OUT/NAME.npy and OUT/NAME.json each, as predicted alone, shared by --threads.)");
   AddModelOption(cmd, &o->files.model_dir, "Model bundle folder (model.yaml + generator.pt)");
   AddMotionArgument(
@@ -72,6 +77,11 @@ Several files: OUT/NAME.npy and OUT/NAME.json each, as predicted alone, shared b
                   "up to one model window of earlier frames as context");
   AddOutOption(cmd, &o->out,
                "Output path (OUT.npy and OUT.json are written; a folder for several files)");
+  cmd->add_option("--format", o->format,
+                  "npy: OUT.npy and OUT.json (default); bvh: also every sample as OUT_00.bvh ... "
+                  "on the history's own BVH rig (its joints, unit, axes, rate), as 'motionfork "
+                  "export' writes them")
+      ->check(CLI::IsMember({"npy", "bvh"}));
   AddThreadsOption(cmd, &o->threads);
   AddMotionInputOptions(cmd, &o->files.input);
 }

@@ -573,8 +573,8 @@ int64_t CountTokensToLineEnd(std::string_view text, size_t p) {
 
 }  // namespace
 
-Motion ReadBvhText(std::string_view text, const std::string& source_name,
-                   const BvhOptions& options) {
+Motion ReadBvhText(std::string_view text, const std::string& source_name, const BvhOptions& options,
+                   BvhRig* rig) {
   if (!(options.scale_to_metres > 0) || !std::isfinite(options.scale_to_metres)) {
     throw std::invalid_argument("BvhOptions::scale_to_metres: expected a finite number > 0, got " +
                                 std::to_string(options.scale_to_metres));
@@ -657,6 +657,23 @@ Motion ReadBvhText(std::string_view text, const std::string& source_name,
   scratch.translation.resize(3 * fk.size());
   const double scale = options.scale_to_metres;
   const char* const data = text.data();
+  if (rig) {
+    *rig = BvhRig{};
+    for (const Node& n : h.nodes) {
+      BvhRig::Node r;
+      r.name = n.name;
+      r.parent = n.parent;
+      r.end_site = n.end_site;
+      std::copy(n.offset, n.offset + 3, r.offset);
+      for (int c = 0; c < n.num_channels; ++c)
+        r.channels.push_back(static_cast<int>(n.channels[c]));
+      r.first_channel = n.first_channel;
+      rig->nodes.push_back(std::move(r));
+    }
+    rig->num_channels = num_channels;
+    rig->frame_time = h.frame_time;
+    rig->values.reserve(static_cast<size_t>(storable) * num_channels);
+  }
 
   for (int64_t f = 0; f < num_frames; ++f) {
     // Frame f starts on the next non-blank line (blank lines are skipped).
@@ -713,6 +730,7 @@ Motion ReadBvhText(std::string_view text, const std::string& source_name,
     }
     float* out = positions.data() + static_cast<size_t>(f) * stride;
     ForwardKinematics(fk, values.data(), scale, &scratch, out);
+    if (rig) rig->values.insert(rig->values.end(), values.begin(), values.end());
     for (size_t i = 0; i < stride; ++i) {
       if (!std::isfinite(out[i])) {
         src.FailAtFrame(f, p,
@@ -730,6 +748,7 @@ Motion ReadBvhText(std::string_view text, const std::string& source_name,
   }
 
   const double fps = FpsFromFrameTime(h.frame_time, h.frame_time_token);
+  if (rig) rig->fps = fps;
   try {
     return Motion(std::move(skeleton), fps, std::move(positions));
   } catch (const std::invalid_argument& e) {
@@ -737,7 +756,7 @@ Motion ReadBvhText(std::string_view text, const std::string& source_name,
   }
 }
 
-Motion ReadBvhFile(const std::string& path, const BvhOptions& options) {
+Motion ReadBvhFile(const std::string& path, const BvhOptions& options, BvhRig* rig) {
   // A file that does not start with HIERARCHY is refused from its first bytes (the parser's own
   // message), before a large file is read whole.
   const std::string bytes = ReadFileBytes(path, [&](std::string_view head) {
@@ -747,7 +766,7 @@ Motion ReadBvhFile(const std::string& path, const BvhOptions& options) {
     if (t.size() < 9 || !EqualsNoCase(t.substr(0, 9), "HIERARCHY"))
       ReadBvhText(head, path, options);
   });
-  return ReadBvhText(bytes, path, options);
+  return ReadBvhText(bytes, path, options, rig);
 }
 
 }  // namespace motionfork

@@ -128,6 +128,15 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
                           {"window_bound", OptionalNumber(c->window_bound)},
                           {"doubts", c->doubts}};
   }
+  if (const auto& r = p.reading) {
+    j["reading"] = {{"skeleton", r->skeleton},
+                    {"joint_map", r->joint_map},
+                    {"unit", r->unit},
+                    {"up", r->up},
+                    {"left_right", r->left_right},
+                    {"bvh_scale", r->bvh_scale},
+                    {"fps", r->fps}};
+  }
   if (p.denoising) {
     j["denoising"] = {{"model", p.denoising->model},
                       {"mode", p.denoising->mode},
@@ -233,6 +242,16 @@ Prediction ParsePrediction(const json& j, const std::string& base, const std::st
   if (j.contains("history_validity"))
     p.history_validity = ValidityFromJson(j["history_validity"], json_path);
   p.prior_bound = OptionalNumberFromJson(j, "prior_nll_bound", json_path);
+  if (j.contains("reading")) {
+    const json& r = j["reading"];
+    p.reading = HistoryReading{Get<std::string>(r, "skeleton", json_path),
+                               Get<std::string>(r, "joint_map", json_path),
+                               Get<std::string>(r, "unit", json_path),
+                               Get<std::string>(r, "up", json_path),
+                               Get<std::string>(r, "left_right", json_path),
+                               Get<double>(r, "bvh_scale", json_path),
+                               Get<double>(r, "fps", json_path)};
+  }
   if (j.contains("history_check")) {
     const json& c = j["history_check"];
     p.history_check = HistoryCheck{OptionalNumberFromJson(c, "window_score", json_path),

@@ -62,6 +62,14 @@ struct HistoryDenoising {
   int first_frame = 0;     // first frame denoised (for reports, not written to OUT.json)
 };
 
+// How the history file was read onto the model (predict's reading flags, "" = detected), so that
+// `export` can write the futures back on the file's own rig the same way.
+struct HistoryReading {
+  std::string skeleton, joint_map, unit, up, left_right;
+  double bvh_scale = 0;  // 0 = BVH read as centimetres, the unit then told from the body
+  double fps = 0;        // for files that store no rate
+};
+
 struct Prediction {
   std::string model, protocol, history;
   int start_frame = 0, k = 0, t_his = 0, t_pred = 0;
@@ -74,6 +82,7 @@ struct Prediction {
   std::optional<SampleValidity> history_validity;  // the same figures for the history frames
   std::optional<double> prior_bound;          // the prior's bound on a mean NLL (its held-out q99)
   std::optional<HistoryCheck> history_check;  // doubts about the history, when checked
+  std::optional<HistoryReading> reading;      // how the history file was read, when known
   std::optional<HistoryImputation> imputation;  // the history's missing values were imputed
   std::optional<HistoryDenoising> denoising;    // the history was denoised (after any imputation)
 

@@ -104,6 +104,8 @@ void IntoModelFrame(ConformedMotion* c, const std::vector<RigConvention>& conven
   o.target_up = options.target_up;
   const BodyFrame frame = DetectBodyFrame(c->motion, c->missing, roles, o);
   for (const std::string& w : frame.warnings) c->notes.push_back("warning: " + w);
+  c->frame = frame;
+  c->roles = roles;
   if (frame.IsIdentity(read_scale)) return;
   c->motion = ToModelFrame(c->motion, frame, roles, c->missing.empty() ? nullptr : &c->missing);
   c->notes.push_back("read as " + frame.Describe());
@@ -120,13 +122,19 @@ ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>
   if (options.joint_map.empty() || !named) {
     std::optional<ConformedMotion> exact;
     try {
-      exact = ConformedMotion{ConformToSkeleton(motion, onto), {}, {}};
-      if (!missing.empty()) exact->missing = ConformMask(motion, missing, onto);
+      ConformedMotion c;
+      c.motion = ConformToSkeleton(motion, onto);
+      if (!missing.empty()) c.missing = ConformMask(motion, missing, onto);
+      exact = std::move(c);
     } catch (const std::invalid_argument&) {
       if (!named) throw;  // no names to map by: the count error says what fits
       // Other names: read them by their roles below.
     }
     if (exact) {
+      for (const std::string& name : onto.skeleton->joint_names()) {
+        const std::optional<int> j = have.is_anonymous() ? std::nullopt : have.Find(name);
+        exact->source_of.push_back(j ? *j : -1);
+      }
       IntoModelFrame(&*exact, conventions, options, read_scale, unit_given);
       return std::move(*exact);
     }
@@ -136,7 +144,10 @@ ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>
     forced = LoadRigConvention(ResolveConfigPath(options.config_dir, "rigs", options.joint_map));
   }
   const JointMapping m = MapJoints(have, *onto.skeleton, conventions, forced ? &*forced : nullptr);
-  ConformedMotion out{ApplyJointMapping(motion, m, onto.skeleton), {}, {}};
+  ConformedMotion out;
+  out.motion = ApplyJointMapping(motion, m, onto.skeleton);
+  for (const auto& sources : m.sources)
+    out.source_of.push_back(sources.size() == 1 ? sources[0].first : -1);
   if (!missing.empty()) out.missing = ApplyJointMapping(missing, m);
   std::string note = "joints read as the " + m.source_rig + " rig onto skeleton '" +
                      onto.skeleton->name() + "' (" + std::to_string(onto.skeleton->num_joints()) +
@@ -187,21 +198,26 @@ LoadedMotion LoadMotionInput(const std::string& path, const MotionInputOptions& 
   return out;
 }
 
-MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOptions& options,
-                                  const std::shared_ptr<const Skeleton>& skeleton, double fps,
-                                  const std::vector<std::string>& mask_specs, uint64_t seed) {
-  std::vector<uint8_t> missing;
-  LoadedMotion lm = LoadMotionInput(path, options, &missing);
+ConformedMotion ConformLoadedMotion(const std::string& path, const LoadedMotion& lm,
+                                    const std::vector<uint8_t>& missing,
+                                    const std::shared_ptr<const Skeleton>& skeleton) {
   SkeletonConfig onto;
   onto.skeleton = skeleton;
   onto.source = lm.skeleton_config ? lm.skeleton_config->source : skeleton;
   if (lm.skeleton_config) onto.selection = lm.skeleton_config->selection;
-  ConformedMotion conformed;
   try {
-    conformed = ConformForModel(lm.motion, missing, onto, options, lm.read_scale, lm.unit_given);
+    return ConformForModel(lm.motion, missing, onto, lm.options, lm.read_scale, lm.unit_given);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(path + ": " + e.what());
   }
+}
+
+MotionWithGaps LoadMotionWithGaps(const std::string& path, const MotionInputOptions& options,
+                                  const std::shared_ptr<const Skeleton>& skeleton, double fps,
+                                  const std::vector<std::string>& mask_specs, uint64_t seed) {
+  std::vector<uint8_t> missing;
+  const LoadedMotion lm = LoadMotionInput(path, options, &missing);
+  ConformedMotion conformed = ConformLoadedMotion(path, lm, missing, skeleton);
   if (options.strict) {
     for (const std::string& note : conformed.notes) {
       if (note.rfind("warning: ", 0) == 0) {

@@ -13,6 +13,7 @@
 #include "config/skeleton_config.h"
 #include "core/motion.h"
 #include "core/skeleton.h"
+#include "rig/body_frame.h"
 
 namespace motionfork::pipeline {
 
@@ -76,10 +77,23 @@ struct ConformedMotion {
   Motion motion;
   std::vector<uint8_t> missing;
   std::vector<std::string> notes;
+  // The way back (futures on the file's own rig, pipeline/export_on_rig.h): [model joint] -> the
+  // file's joint it is read from alone (-1: a blend of several, or not by name); the frame the
+  // values were turned from (FromModelFrame, with `roles` of the model's joints; roles empty:
+  // values kept as read).
+  std::vector<int> source_of;
+  BodyFrame frame;
+  std::vector<std::string> roles;
 };
 ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>& missing,
                                 const SkeletonConfig& onto, const MotionInputOptions& options,
                                 double read_scale = 1.0, bool unit_given = false);
+
+// A motion read by LoadMotionInput (lm.options: how) put on `skeleton` by ConformForModel, its
+// skeleton config's selection applied; an error names `path`.
+ConformedMotion ConformLoadedMotion(const std::string& path, const LoadedMotion& lm,
+                                    const std::vector<uint8_t>& missing,
+                                    const std::shared_ptr<const Skeleton>& skeleton);
 
 // "note: PATH: TEXT" or, for a note starting "warning: ", "warning: PATH: TEXT".
 std::string InputNoteLine(const std::string& path, const std::string& note);

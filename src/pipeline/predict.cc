@@ -258,8 +258,10 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
     PredictNotes n = notes;
     n.resampled_from = in.motion.resampled_from;
     n.input = in.motion.notes;
-    const Prediction p = PredictFutures(model, files.model_dir, validator, std::move(in),
-                                        files.request, repair, gate);
+    Prediction p = PredictFutures(model, files.model_dir, validator, std::move(in), files.request,
+                                  repair, gate);
+    p.reading = HistoryReading{input.skeleton,   input.joint_map, input.unit, input.up,
+                               input.left_right, input.bvh_scale, input.fps};
     std::lock_guard<std::mutex> guard(lock);
     done(i, p, n);
   });

@@ -90,6 +90,9 @@ struct PredictFiles {
   // own (MODEL/hgvae) when it has one; "none" = no window score.
   std::string scorer_dir;
   bool gate = true;  // check every history before forecasting (input.strict: refuse on a doubt)
+  // Also write every sample as BVH (OUT_00.bvh ...): on the history's own rig when it is a BVH
+  // file (pipeline/export_on_rig.h), else on the model's skeleton (pipeline/export.h).
+  bool bvh = false;
   ForecastRequest request;  // k, seed, fixed parts, repair
 };
 

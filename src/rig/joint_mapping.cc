@@ -48,15 +48,23 @@ std::optional<Weighted> Resolve(const RigConvention& convention, const std::stri
 }
 
 // How well a convention explains a rig: how many of the names it lists (all variants, `also`)
-// the rig has, then which share of them (between two that explain as many joints, the one that
-// lists fewer others is the rig's own: HumanEva's 15 rather than Human3.6M's 32).
+// the rig has; between two that explain as many joints, the one that names more of the target's
+// roles by a joint of the rig (rather than making them from others: an Unreal 4 mannequin's
+// spine_03 is its chest, which the Unreal 5 convention would make from the shoulders); then
+// which share of its names the rig has (the one that lists fewer others is the rig's own:
+// HumanEva's 15 rather than Human3.6M's 32).
 struct Score {
   int matched = -1;
+  int named_roles = 0;
   double share = 0;
   bool operator>(const Score& o) const {
-    return matched != o.matched ? matched > o.matched : share > o.share;
+    if (matched != o.matched) return matched > o.matched;
+    if (named_roles != o.named_roles) return named_roles > o.named_roles;
+    return share > o.share;
   }
-  bool operator==(const Score& o) const { return matched == o.matched && share == o.share; }
+  bool operator==(const Score& o) const {
+    return matched == o.matched && named_roles == o.named_roles && share == o.share;
+  }
 };
 
 Score ScoreOf(const RigConvention& convention, const std::map<std::string, int>& index) {
@@ -127,7 +135,9 @@ JointMapping MapJoints(const Skeleton& from, const Skeleton& to,
     std::vector<std::string> missing;
     for (const std::string& role : target.roles)
       if (!Resolve(*c, role, index)) missing.push_back(role);
-    const Score score = ScoreOf(*c, index);
+    Score score = ScoreOf(*c, index);
+    for (const std::string& role : target.roles)
+      score.named_roles += Resolve(*c, role, index, /*depth=*/2).has_value();
     if (missing.empty()) {
       if (score > best_score) best = c, best_score = score;
     } else if (score > closest_score ||
