@@ -11,6 +11,7 @@
 #include "generator/training/eval_experiment.h"
 #include "generator/training/eval_experiment_json.h"
 #include "generator/training/eval_experiment_text.h"
+#include "pipeline/motion_input.h"
 
 namespace motionfork::app {
 namespace {
@@ -35,6 +36,7 @@ void RunEval(EvalCommandOptions o, const GlobalOptions& g) {
   e.config_dir = ConfigDir(g.config_dir);
   e.models_dir = (std::filesystem::path(MOTIONFORK_CONFIG_DIR).parent_path() / "models").string();
   e.cache_dir = CacheDir(g.cache_dir);
+  if (!e.clips.empty()) e.conform_clips = pipeline::ConformClipsByRoles(e.config_dir, e.protocol);
   StageBars bars(!g.quiet);
   e.progress = bars.Callback();
   const EvalExperiment x = RunEvalExperiment(e);

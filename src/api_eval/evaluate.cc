@@ -10,6 +10,7 @@
 #include "generator/training/eval_experiment.h"
 #include "generator/training/eval_experiment_json.h"
 #include "io/cache_dir.h"
+#include "pipeline/motion_input.h"
 
 namespace motionfork {
 
@@ -37,6 +38,7 @@ std::string EvaluateJson(const EvaluateOptions& options) {
   if (!e.config_dir.empty())
     e.models_dir = (fs::path(e.config_dir).parent_path() / "models").string();
   e.cache_dir = CacheDir(options.cache_dir);
+  if (!e.clips.empty()) e.conform_clips = pipeline::ConformClipsByRoles(e.config_dir, e.protocol);
   return EvalExperimentJson(e, RunEvalExperiment(e)).dump(2);
 }
 

@@ -61,7 +61,16 @@ ClipFolder LoadClipFolder(const ProtocolOptions& protocol, const SkeletonConfig&
     }
     Motion motion;
     try {
-      motion = ConformToSkeleton(ReadMotionFile(file, read), skeleton);
+      if (options.conform) {
+        const bool bvh = FormatOfPath(file) == MotionFormat::kBvh;
+        std::vector<std::string> notes;
+        motion = options.conform(ReadMotionFile(file, read), skeleton,
+                                 bvh ? read.bvh.scale_to_metres : 1.0, &notes);
+        for (const std::string& n : notes)
+          if (n.rfind("warning: ", 0) == 0) out.warnings.push_back(file + ": " + n.substr(9));
+      } else {
+        motion = ConformToSkeleton(ReadMotionFile(file, read), skeleton);
+      }
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(file + ": " + e.what());
     }

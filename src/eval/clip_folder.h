@@ -13,15 +13,25 @@
 namespace motionfork {
 
 struct ClipFolder {
-  std::vector<Clip> clips;           // split kTest, protocol skeleton and fps, metres
-  std::vector<SkippedClip> skipped;  // too short for the protocol
+  std::vector<Clip> clips;            // split kTest, protocol skeleton and fps, metres
+  std::vector<SkippedClip> skipped;   // too short for the protocol
+  std::vector<std::string> warnings;  // "FILE: text": doubts of ClipFolderOptions::conform
 };
+
+// Puts a file's motion (as read: BVH lengths at `read_scale` metres per unit) on the protocol
+// skeleton `onto`; notes for people go to `notes`, those starting "warning: " being doubts.
+using ClipConform = std::function<Motion(const Motion& motion, const SkeletonConfig& onto,
+                                         double read_scale, std::vector<std::string>* notes)>;
 
 struct ClipFolderOptions {
   // Frame rate of files that store none (.npy; .csv without an fps comment), Hz; 0 = the
   // protocol's.
   double default_fps = 0;
   std::function<void(const LoadProgress&)> progress;  // may be empty
+  // How a file's joints reach the skeleton; empty: ConformToSkeleton (by names, or by count for
+  // .npy). pipeline::ConformClipsByRoles also maps other rigs by their joints' roles and turns
+  // them into the protocol's frame (unit, up axis, left/right).
+  ClipConform conform;
 };
 
 // Every .bvh, .npy and .csv file under dir (recursively, in path order). Each is mapped onto the

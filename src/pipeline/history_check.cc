@@ -22,7 +22,8 @@ void JudgeBodyFrame(const Motion& history, const std::vector<std::string>& roles
   const BodyFrame f = DetectBodyFrame(history, {}, roles, o);
   if (!f.unit_detected) {
     doubts->push_back(StringPrintf(
-        "scale: the body measures %.3g m (leg + trunk), no human size in any unit", f.body_size));
+        "scale: the body measures %.3g m (leg + trunk), no human size (a wrong --unit?)",
+        f.body_size));
   } else if (std::abs(f.unit - 1.0) > 1e-12) {
     doubts->push_back(StringPrintf(
         "scale: the body measures %.3g m (leg + trunk); it is human-sized only if the values "

@@ -77,6 +77,19 @@ std::string ProtocolUp(const std::string& config_dir, const std::string& protoco
   }
 }
 
+std::function<Motion(const Motion&, const SkeletonConfig&, double, std::vector<std::string>*)>
+ConformClipsByRoles(const std::string& config_dir, const std::string& protocol) {
+  MotionInputOptions options;
+  options.config_dir = config_dir;
+  options.target_up = ProtocolUp(config_dir, protocol);
+  return [options](const Motion& motion, const SkeletonConfig& onto, double read_scale,
+                   std::vector<std::string>* notes) {
+    ConformedMotion c = ConformForModel(motion, {}, onto, options, read_scale);
+    if (notes) *notes = std::move(c.notes);
+    return Motion(onto.skeleton, c.motion.fps(), c.motion.positions());
+  };
+}
+
 std::string InputNoteLine(const std::string& path, const std::string& note) {
   const std::string warning = "warning: ";
   if (note.rfind(warning, 0) == 0) return warning + path + ": " + note.substr(warning.size());

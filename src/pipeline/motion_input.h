@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -94,6 +95,13 @@ ConformedMotion ConformForModel(const Motion& motion, const std::vector<uint8_t>
 ConformedMotion ConformLoadedMotion(const std::string& path, const LoadedMotion& lm,
                                     const std::vector<uint8_t>& missing,
                                     const std::shared_ptr<const Skeleton>& skeleton);
+
+// For a folder of a user's clips (`eval --clips`, eval/clip_folder.h ClipConform): each file's
+// motion onto the protocol skeleton as ConformForModel puts a history on a model -- by joint
+// names, else by the roles of its rig -- and into the protocol's frame (`up` of `protocol` in
+// config_dir; unit and left/right told from the body).
+std::function<Motion(const Motion&, const SkeletonConfig&, double, std::vector<std::string>*)>
+ConformClipsByRoles(const std::string& config_dir, const std::string& protocol);
 
 // "note: PATH: TEXT" or, for a note starting "warning: ", "warning: PATH: TEXT".
 std::string InputNoteLine(const std::string& path, const std::string& note);

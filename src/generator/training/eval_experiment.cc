@@ -181,7 +181,9 @@ void LoadTestClips(const EvalExperimentOptions& o, const ProtocolOptions& protoc
   if (!o.clips.empty()) {
     ClipFolderOptions read;
     read.progress = relay("reading clips");
+    read.conform = o.conform_clips;
     out->folder = LoadClipFolder(protocol, skeleton, o.clips, read);
+    for (const std::string& w : out->folder.warnings) ReportWarning(o.progress, w);
     for (const Clip& c : out->folder.clips) out->test.push_back(&c);
     out->source = o.clips;
   } else {

@@ -11,6 +11,7 @@
 
 #include "core/progress.h"
 #include "dataset/protocol_options.h"
+#include "eval/clip_folder.h"
 #include "eval/evaluate.h"
 
 namespace motionfork {
@@ -23,6 +24,7 @@ struct EvalExperimentOptions {
   std::string subset = "test";  // clips of `data` evaluated: test, train or all
   std::string split_file;       // overrides the protocol's split file; "" = the protocol's
   std::string clips;            // evaluate this folder of motion files instead; "" = data
+  ClipConform conform_clips;    // how their joints reach the skeleton (eval/clip_folder.h)
   int k = 50;                   // futures per history, >= 2
   uint64_t seed = 0;
   std::string fix;          // a part of the default partition shared by every sample; ""
