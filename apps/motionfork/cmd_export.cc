@@ -36,8 +36,10 @@ void RunExport(const ExportOptions& o, const GlobalOptions& global) {
   bvh.fit.lengths = o.lengths == "exact" ? BoneLengths::kExact : BoneLengths::kMean;
   ValidateBvhWriteOptions(bvh);
   const Prediction p = ReadPrediction(o.prediction);
-  if (const std::string rig = pipeline::RigSource(p, o.rig); !rig.empty()) {
-    const pipeline::UserRig user = pipeline::ReadUserRig(rig, p, ConfigDir(global.config_dir));
+  const pipeline::RigChoice rig = pipeline::RigSource(p, o.rig, o.prediction);
+  if (!rig.note.empty()) PrintText(rig.note + "\n");
+  if (!rig.path.empty()) {
+    const pipeline::UserRig user = pipeline::ReadUserRig(rig.path, p, ConfigDir(global.config_dir));
     for (const pipeline::WrittenRigSample& w :
          pipeline::ExportPredictionOnRig(p, user, o.out, o.sample)) {
       PrintText(pipeline::RigSampleText(w, user, p));

@@ -134,13 +134,17 @@ struct Model::Impl {
     return MotionFromPositions(forecaster.skeleton(), forecaster.config().fps, positions, who);
   }
 
-  // The bundle's HG-VAE (BUNDLE/hgvae), loaded at the first CheckHistory; null when there is none.
+  // The bundle's HG-VAE (BUNDLE/hgvae), loaded at the first CheckHistory; null when there is none
+  // or it does not fit the forecaster.
   const HgvaeModel* Scorer() const {
     std::call_once(scorer_loaded, [&] {
       const fs::path dir = fs::path(bundle_dir) / "hgvae";
-      if (fs::is_regular_file(dir / "hgvae.yaml")) {
+      if (!fs::is_regular_file(dir / "hgvae.yaml")) return;
+      try {
         scorer.emplace(LoadHgvaeModel(dir.string()));
         pipeline::CheckImputerFits(*scorer, dir.string(), forecaster);
+      } catch (const std::exception&) {
+        scorer.reset();  // one that does not fit its forecaster: the gate scores without it
       }
     });
     return scorer ? &*scorer : nullptr;
@@ -399,9 +403,11 @@ std::string Model::WritePrediction(const std::string& out, const Futures& future
   Prediction p =
       ToPrediction(futures, impl_->forecaster, impl_->bundle_dir, impl_->bundle_judge, options);
   // The history's doubts and the futures' validity as `motionfork predict` writes them.
-  pipeline::GateHistory(
+  p.history_check = pipeline::GateHistory(
       impl_->forecaster, impl_->bundle_judge,
-      pipeline::GateForModel(impl_->forecaster, impl_->config_dir, impl_->Scorer(), false), {}, &p);
+      pipeline::GateForModel(impl_->forecaster, impl_->config_dir, impl_->Scorer(), false), {},
+      futures.history, out, 0);
+  pipeline::MarkFuturesOfDoubtedHistory(&p);
   return motionfork::WritePrediction(out, p);
 }
 

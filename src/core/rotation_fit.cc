@@ -30,7 +30,9 @@ void FitRotation(const std::vector<double>& u, const std::vector<double>& v,
       sv += wi * at(v, i);
     }
     const Eigen::JacobiSVD<Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    if (svd.singularValues()(1) < 1e-9 * svd.singularValues()(0)) {
+    if (!(svd.singularValues()(0) > 0)) {
+      m = Matrix3d::Identity();  // every direction zero: nothing to turn by
+    } else if (svd.singularValues()(1) < 1e-9 * svd.singularValues()(0)) {
       m = shortest(su, sv);  // collinear: no turn about the line is told, take none
     } else {
       Matrix3d d = Matrix3d::Identity();

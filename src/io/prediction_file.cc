@@ -129,7 +129,8 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
                           {"doubts", c->doubts}};
   }
   if (const auto& r = p.reading) {
-    j["reading"] = {{"skeleton", r->skeleton},
+    j["reading"] = {{"path", r->path},
+                    {"skeleton", r->skeleton},
                     {"joint_map", r->joint_map},
                     {"unit", r->unit},
                     {"up", r->up},
@@ -244,7 +245,8 @@ Prediction ParsePrediction(const json& j, const std::string& base, const std::st
   p.prior_bound = OptionalNumberFromJson(j, "prior_nll_bound", json_path);
   if (j.contains("reading")) {
     const json& r = j["reading"];
-    p.reading = HistoryReading{Get<std::string>(r, "skeleton", json_path),
+    p.reading = HistoryReading{r.value("path", std::string()),
+                               Get<std::string>(r, "skeleton", json_path),
                                Get<std::string>(r, "joint_map", json_path),
                                Get<std::string>(r, "unit", json_path),
                                Get<std::string>(r, "up", json_path),

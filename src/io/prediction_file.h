@@ -65,6 +65,7 @@ struct HistoryDenoising {
 // How the history file was read onto the model (predict's reading flags, "" = detected), so that
 // `export` can write the futures back on the file's own rig the same way.
 struct HistoryReading {
+  std::string path;  // the history file, absolute (export finds it from any folder)
   std::string skeleton, joint_map, unit, up, left_right;
   double bvh_scale = 0;  // 0 = BVH read as centimetres, the unit then told from the body
   double fps = 0;        // for files that store no rate

@@ -151,13 +151,29 @@ RigSample ExportSampleOnRig(const Prediction& p, int k, const UserRig& user) {
   return out;
 }
 
-std::string RigSource(const Prediction& p, const std::string& choice) {
-  if (choice == "model") return "";
-  if (choice != "history") return choice;
+RigChoice RigSource(const Prediction& p, const std::string& choice, const std::string& source) {
+  if (choice == "model") return {};
+  if (choice != "history") return {choice, ""};
   std::string ext = std::filesystem::path(p.history).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  const bool bvh = ext == ".bvh";
-  return bvh && std::filesystem::is_regular_file(p.history) ? p.history : "";
+  if (ext != ".bvh") return {};  // a .npy or .csv history has no rig
+  const std::string fallback = "; written on the model's skeleton (pass --rig FILE.bvh to use it)";
+  if (!p.reading) {
+    return {"", "note: " + source + ": it does not record how its history " + p.history +
+                    " was read (written before 2026-12-05)" + fallback};
+  }
+  // The file as named when it is the one recorded (or the recorded one is gone), else the
+  // recorded one: a same-named file in another folder is not taken for it.
+  namespace fs = std::filesystem;
+  const std::string& recorded = p.reading->path;
+  const bool named = fs::is_regular_file(p.history);
+  const bool kept = !recorded.empty() && fs::is_regular_file(recorded);
+  std::error_code ec;
+  if (named && (!kept || fs::equivalent(p.history, recorded, ec))) return {p.history, ""};
+  if (kept) return {recorded, ""};
+  return {"", "note: " + source + ": its history " +
+                  (p.reading->path.empty() ? p.history : p.reading->path) + " is not found" +
+                  fallback};
 }
 
 std::vector<WrittenRigSample> ExportPredictionOnRig(const Prediction& p, const UserRig& user,

@@ -52,9 +52,15 @@ struct RigSample {
 // the prediction's history frames lie outside it.
 RigSample ExportSampleOnRig(const Prediction& p, int k, const UserRig& user);
 
-// Where `export --rig CHOICE` takes the rig from: "model" -> "" (the model's own skeleton), a
-// .bvh path -> it, "history" -> p.history when it is a .bvh file that exists, else "".
-std::string RigSource(const Prediction& p, const std::string& choice);
+// Where `export --rig CHOICE` takes the rig from: "model" -> none (the model's own skeleton), a
+// .bvh path -> it, "history" -> the prediction's history file when it was a BVH (its absolute
+// path as recorded, else as named), read the way predict read it (p.reading). `note` says why a
+// BVH history's rig is not used (not found; a prediction that does not record its reading).
+struct RigChoice {
+  std::string path;  // "" = the model's skeleton
+  std::string note;  // "" or a "note: ..." line for people
+};
+RigChoice RigSource(const Prediction& p, const std::string& choice, const std::string& source);
 
 // Every sample of p (or only `sample` when >= 0) on `user`'s rig, all made before anything is
 // written; each file then written atomically: `out` for one sample, NumberedPath(out, ...) for

@@ -10,8 +10,8 @@ std::string RigSampleText(const WrittenRigSample& w, const UserRig& user, const 
       "history + %d future frames at %.6g Hz, %s; largest joint displacement from the "
       "prediction %.2f mm\n",
       w.path.c_str(), s.sample, user.path.c_str(), s.solved_joints + s.held_joints, s.solved_joints,
-      s.held_joints, s.history_frames, s.future_frames, s.fps, user.frame.Describe().c_str(),
-      1000 * s.displacement);
+      s.held_joints, s.history_frames, s.future_frames, s.fps,
+      user.roles.empty() ? "values as read" : user.frame.Describe().c_str(), 1000 * s.displacement);
   const bool repaired = p.imputation || p.denoising;
   if (s.history_mismatch > 1e-3 && !repaired) {
     text += StringPrintf(

@@ -99,7 +99,9 @@ HistoryCheck CheckHistory(const Motion& history, const SampleValidity& scored,
                           const HistoryCheckOptions& options) {
   HistoryCheck c;
   const int T = history.num_frames();
-  JudgeBodyFrame(history, roles, target_up, &c.doubts);
+  // A skeleton no rig convention names has no roles: its size and axes are not judged.
+  if (roles.size() == static_cast<size_t>(history.num_joints()))
+    JudgeBodyFrame(history, roles, target_up, &c.doubts);
   JudgeBones(history, judge.reference_bone_lengths(), options, &c.doubts);
   if (T > 0 && scored.violating_frames >= options.violating_share * T) {
     c.doubts.push_back(StringPrintf(

@@ -35,7 +35,8 @@ struct HistoryCheckOptions {
 // the protocol declares none: the axis is not judged); `scored` is judge.Score of it. `scorer`
 // (may be null) is the HG-VAE whose window score is compared with its out-of-distribution bound
 // (the windows ending at the last history frame; skipped when the history is shorter than its
-// window). `roles` [J] are the model's joints' roles (rig/joint_mapping.h, RolesOfSkeleton).
+// window). `roles` [J] are the model's joints' roles (rig/joint_mapping.h, RolesOfSkeleton);
+// empty (a skeleton no convention names): size, up axis and left/right are not judged.
 HistoryCheck CheckHistory(const Motion& history, const SampleValidity& scored,
                           const PoseValidator& judge, const HgvaeModel* scorer,
                           const std::vector<std::string>& roles, const std::string& target_up,

@@ -79,28 +79,25 @@ std::vector<std::string> ModelRoles(const Skeleton& skeleton, const std::string&
 
 }  // namespace
 
-void GateHistory(const Forecaster& model, const PoseValidator& judge, const HistoryGate& gate,
-                 const std::vector<std::string>& read_notes, Prediction* p) {
-  if (!gate.on) return;
-  const size_t size = static_cast<size_t>(p->t_his) * p->joints() * 3;
-  const std::vector<float> history(p->positions.begin(), p->positions.begin() + size);
-  p->history_check = CheckHistory(Motion(model.skeleton(), p->fps, history),
-                                  p->history_validity.value_or(SampleValidity{}), judge,
-                                  gate.scorer, gate.roles, gate.target_up);
+HistoryCheck GateHistory(const Forecaster& model, const PoseValidator& judge,
+                         const HistoryGate& gate, const std::vector<std::string>& read_notes,
+                         const std::vector<float>& history, const std::string& name, int start) {
+  const Motion h(model.skeleton(), model.config().fps, history);
+  HistoryCheck c = CheckHistory(h, judge.Score(history.data(), h.num_frames()), judge, gate.scorer,
+                                gate.roles, gate.target_up);
   // Doubts raised while reading the file (turned over, sides exchanged) count too.
   for (const std::string& note : read_notes) {
     if (note.rfind(kWarning, 0) == 0)
-      p->history_check->doubts.push_back(kReadingDoubt + note.substr(kWarning.size()));
+      c.doubts.push_back(kReadingDoubt + note.substr(kWarning.size()));
   }
-  const std::vector<std::string>& doubts = p->history_check->doubts;
-  if (gate.strict && !doubts.empty()) {
+  if (gate.strict && !c.doubts.empty()) {
     std::string text;
-    for (const std::string& d : doubts) text += "; " + d;
-    throw FormatError(p->history + ": the history (frames " + std::to_string(p->start_frame) +
-                      ".." + std::to_string(p->start_frame + p->t_his - 1) +
+    for (const std::string& d : c.doubts) text += "; " + d;
+    throw FormatError(name + ": the history (frames " + std::to_string(start) + ".." +
+                      std::to_string(start + h.num_frames() - 1) +
                       ") is far from what the model knows" + text + " (--strict: refused)");
   }
-  MarkFuturesOfDoubtedHistory(p);
+  return c;
 }
 
 HistoryGate GateForModel(const Forecaster& model, const std::string& config_dir,
@@ -175,12 +172,21 @@ Prediction PredictFutures(const Forecaster& model, const std::string& model_dir,
     denoising =
         DenoiseHistory(*repair.denoiser, repair.denoiser_dir, in.name, start, t_his, &history);
   }
+  // The gate judges the (repaired) history before any forecast is made from it.
+  std::optional<HistoryCheck> check;
+  if (gate.on) {
+    const size_t frame = static_cast<size_t>(history.num_joints()) * 3;
+    const std::vector<float> frames(history.positions().begin() + start * frame,
+                                    history.positions().begin() + (start + t_his) * frame);
+    check = GateHistory(model, validator, gate, in.motion.notes, frames, in.name, start);
+  }
   const Forecast f = model.Predict(history, start, request);
 
   Prediction p = AssemblePrediction(model, model_dir, f.history, f.futures, request, validator);
   p.history = in.name;
   p.start_frame = start;
-  GateHistory(model, validator, gate, in.motion.notes, &p);
+  p.history_check = check;
+  MarkFuturesOfDoubtedHistory(&p);
   p.imputation = imputation;
   p.denoising = denoising;
   return p;
@@ -231,13 +237,22 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
   }
   HistoryGate gate;
   const std::string scorer_dir = files.gate ? ScorerDir(files) : "";
+  std::string scorer_used;
   if (!scorer_dir.empty()) {
     if (scorer_dir == files.imputer_dir && imputer) {
       gate.scorer = &*imputer;
+      scorer_used = scorer_dir;
     } else {
-      scorer.emplace(LoadHgvaeModel(scorer_dir));
-      CheckImputerFits(*scorer, scorer_dir, model);
-      gate.scorer = &*scorer;
+      try {
+        scorer.emplace(LoadHgvaeModel(scorer_dir));
+        CheckImputerFits(*scorer, scorer_dir, model);
+        gate.scorer = &*scorer;
+        scorer_used = scorer_dir;
+      } catch (const std::exception&) {
+        // The bundle's own HG-VAE does not fit its forecaster: the gate scores without it
+        // (a given --impute DIR that does not fit is refused where it fills values).
+        scorer.reset();
+      }
     }
   }
   if (files.gate) gate = GateForModel(model, input.config_dir, gate.scorer, input.strict);
@@ -251,7 +266,21 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
   PredictNotes notes;
   notes.angle_ranges = validator.has_constraints();
   notes.prior = validator.has_prior();
-  if (gate.scorer) notes.scorer = scorer_dir;
+  // --strict with several files: every history as read (those without missing values) is judged
+  // before any is forecast, so that a refusal leaves no file written.
+  if (gate.on && gate.strict && inputs.size() > 1) {
+    for (const HistoryInput& in : inputs) {
+      const int start = HistoryStart(in, t_his, mc.fps);
+      if (MissingInHistory(in.motion, start, t_his) > 0) continue;
+      const size_t frame = static_cast<size_t>(in.motion.motion.num_joints()) * 3;
+      const std::vector<float>& all = in.motion.motion.positions();
+      GateHistory(
+          model, validator, gate, in.motion.notes,
+          std::vector<float>(all.begin() + start * frame, all.begin() + (start + t_his) * frame),
+          in.name, start);
+    }
+  }
+  notes.scorer = scorer_used;
   std::mutex lock;
   ParallelFor(static_cast<int>(inputs.size()), threads, [&](int i, int) {
     HistoryInput& in = inputs[static_cast<size_t>(i)];
@@ -260,8 +289,14 @@ void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::stri
     n.input = in.motion.notes;
     Prediction p = PredictFutures(model, files.model_dir, validator, std::move(in), files.request,
                                   repair, gate);
-    p.reading = HistoryReading{input.skeleton,   input.joint_map, input.unit, input.up,
-                               input.left_right, input.bvh_scale, input.fps};
+    p.reading = HistoryReading{std::filesystem::absolute(p.history).string(),
+                               input.skeleton,
+                               input.joint_map,
+                               input.unit,
+                               input.up,
+                               input.left_right,
+                               input.bvh_scale,
+                               input.fps};
     std::lock_guard<std::mutex> guard(lock);
     done(i, p, n);
   });

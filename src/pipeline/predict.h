@@ -38,13 +38,13 @@ struct HistoryGate {
   bool strict = false;                 // a doubt is a FormatError naming the history
 };
 
-// The gate as `predict` runs it, for a Prediction p (its history the first t_his frames of every
-// sample, p.history_validity as judged by `judge`): sets p->history_check (the doubts, plus those
-// among `read_notes` -- "warning: " notes of reading the file -- as kReadingDoubt ones), marks
-// the futures of a doubted history invalid, and with gate.strict throws FormatError naming
-// p->history and the doubts. Nothing when the gate is off.
-void GateHistory(const Forecaster& forecaster, const PoseValidator& judge, const HistoryGate& gate,
-                 const std::vector<std::string>& read_notes, Prediction* p);
+// The gate as `predict` runs it on history frames [t_his, J, 3] (metres, the model's frame)
+// about to be forecast: their doubts, plus those among `read_notes` ("warning: " notes of reading
+// the file) as kReadingDoubt ones. With gate.strict a doubt is a FormatError naming `name` and the
+// frames from `start`. Call only with the gate on.
+HistoryCheck GateHistory(const Forecaster& forecaster, const PoseValidator& judge,
+                         const HistoryGate& gate, const std::vector<std::string>& read_notes,
+                         const std::vector<float>& history, const std::string& name, int start);
 
 // The gate for a model: its joints' roles (shipped rig conventions in config_dir), its up axis
 // (its protocol's), and the HG-VAE `scorer` (may be null).

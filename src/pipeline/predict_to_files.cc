@@ -34,8 +34,10 @@ namespace {
 std::string WriteSamplesAsBvh(const Prediction& p, const std::string& base,
                               const std::string& config_dir) {
   std::string text;
-  if (const std::string rig = RigSource(p, "history"); !rig.empty()) {
-    const UserRig user = ReadUserRig(rig, p, config_dir);
+  const RigChoice rig = RigSource(p, "history", base + ".json");
+  text += rig.note.empty() ? "" : rig.note + "\n";
+  if (!rig.path.empty()) {
+    const UserRig user = ReadUserRig(rig.path, p, config_dir);
     for (const WrittenRigSample& w : ExportPredictionOnRig(p, user, base + ".bvh", -1))
       text += RigSampleText(w, user, p);
     return text;

@@ -136,8 +136,10 @@ JointMapping MapJoints(const Skeleton& from, const Skeleton& to,
     for (const std::string& role : target.roles)
       if (!Resolve(*c, role, index)) missing.push_back(role);
     Score score = ScoreOf(*c, index);
-    for (const std::string& role : target.roles)
-      score.named_roles += Resolve(*c, role, index, /*depth=*/2).has_value();
+    for (const std::string& role : target.roles) {
+      const auto w = Resolve(*c, role, index, /*depth=*/2);  // no derived roles at depth 2
+      score.named_roles += w && w->size() == 1;
+    }
     if (missing.empty()) {
       if (score > best_score) best = c, best_score = score;
     } else if (score > closest_score ||

@@ -38,6 +38,19 @@ assert worst < 1e-5, worst
 assert len(rows_out) == 149
 print("same rig, 60 Hz, history frames unchanged (largest change %.2g)" % worst)
 PY
+# From another folder the history is found by its recorded absolute path: the same file.
+mkdir -p elsewhere
+cd elsewhere
+"$mf" export ../p.json -o g.bvh --sample 0 >../elsewhere.txt 2>&1
+cd ..
+cmp elsewhere/g.bvh f_00.bvh
+# A prediction that does not record how its history was read: the model's skeleton, with a note.
+python3 -c "import json; j = json.load(open('p.json')); del j['reading']; json.dump(j, open('old.json', 'w'))"
+cp p.npy old.npy
+"$mf" export old.json -o o.bvh --sample 0 >old.txt 2>&1
+grep -q "does not record how its history user.bvh was read" old.txt
+grep -q "sample 0, 75 frames" old.txt
+echo "moved and old predictions: handled"
 # predict --format bvh writes the same files as export does.
 "$mf" predict user.bvh --model "$src/models/bandai" -o q -k 3 --seed 1 --format bvh >q.txt 2>&1
 grep -q "wrote q_02.bvh: sample 2 on the rig of user.bvh" q.txt

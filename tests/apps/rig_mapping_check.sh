@@ -74,7 +74,7 @@ echo "eval --clips: the same figures"
 "$mf" predict --model "$src/models/bandai" bandai.bvh -o u -k 3 --unit mm >unit.txt 2>&1
 grep "far from what the model knows: scale: " unit.txt
 grep -q "0 of 3 futures valid" unit.txt
-grep -q '"history"' u.json
+python3 -c "import json, sys; s = json.load(open('u.json'))['samples']; sys.exit(0 if s and all('history' in x['failed'] and not x['valid'] for x in s) else 1)"
 grep -q '"scale: the body measures' u.json
 "$mf" predict --model "$src/models/bandai" mirrored.bvh -o l -k 3 --left-right as-labelled \
   >labels.txt 2>&1
@@ -85,6 +85,13 @@ if "$mf" predict --model "$src/models/bandai" bandai.bvh -o v -k 2 --unit mm --s
 fi
 grep -q "is far from what the model knows; scale: .*(--strict: refused)" strict_unit.txt
 [ ! -e v.npy ]
+# --strict with several files: the doubted one refuses the run before any file is written.
+if "$mf" predict --model "$src/models/bandai" bandai.bvh mirrored.bvh -o both -k 2 \
+  --left-right as-labelled --strict >strict_many.txt 2>&1; then
+  echo "--strict accepted a doubted history among several"; exit 1
+fi
+grep -q "mirrored.bvh: the history .* (--strict: refused)" strict_many.txt
+if [ -e both/bandai.npy ]; then echo "--strict left a file written"; exit 1; fi
 # As recorded: every judge passes, the gate says so.
 grep -q "history: no doubt" out.txt
 echo "all rig checks passed"

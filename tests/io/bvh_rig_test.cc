@@ -101,6 +101,22 @@ TEST_CASE("Euler angles in any channel order compose the rotation, nearest the p
       for (int q = 0; q < 9; ++q) CHECK(r2[q] == Approx(r[q]).margin(1e-9));
     }
   }
+  // Gimbal lock (the middle angle at +-90 degrees): only a sum of the outer two is told; the
+  // angles found compose the same rotation.
+  for (const auto& order : orders) {
+    BvhRig::Node node;
+    node.channels = {order[0] + 3, order[1] + 3, order[2] + 3};
+    for (const double middle : {90.0, -90.0, 89.9999999}) {
+      const double v[3] = {30, middle, -50};
+      double r[9];
+      RigLocalRotation(node, v, r);
+      double got[3] = {10, 0, -40};
+      REQUIRE(SetRigLocalRotation(node, r, got));
+      double r2[9];
+      RigLocalRotation(node, got, r2);
+      for (int q = 0; q < 9; ++q) CHECK(r2[q] == Approx(r[q]).margin(1e-6));
+    }
+  }
   BvhRig::Node two;
   two.channels = {3, 4};
   double r[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, v[2] = {0, 0};

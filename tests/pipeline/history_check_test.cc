@@ -60,6 +60,16 @@ TEST_CASE("the gate finds no doubt in a walk and names the scale, axis or sides 
   CHECK(AnyStartsWith(Doubts(Transformed(walk, 0.0001f, false, false)), "scale: "));
 }
 
+TEST_CASE("the gate judges a skeleton no rig convention names without its body frame") {
+  const Motion walk = testing::MakeWalkingMotion(15);
+  std::vector<float> mm = walk.positions();
+  for (float& v : mm) v *= 1000;
+  const Motion far(walk.skeleton_ptr(), walk.fps(), mm);
+  const PoseValidator none(far.skeleton_ptr(), far.fps(), "", "");
+  // No roles: size, up axis and left/right are not judged (no throw, no doubt).
+  CHECK(CheckHistory(far, none.Score(mm.data(), 15), none, nullptr, {}, "y").doubts.empty());
+}
+
 TEST_CASE("the futures of a doubted history are not valid, and say so") {
   Prediction p;
   p.samples.resize(2);
