@@ -1,18 +1,12 @@
 // motionfork export PREDICTION -o OUT.bvh: each predicted sample (history + its future) as a BVH
 // file of joint rotations, for animation tools.
-#include <algorithm>
-#include <cstdio>
 #include <string>
 
 #include "app_common.h"
 #include "commands.h"
-#include "core/error.h"
 #include "flags.h"
-#include "io/bvh.h"
 #include "io/bvh_writer.h"
-#include "io/file_util.h"
 #include "io/prediction_file.h"
-#include "pipeline/export.h"
 #include "pipeline/export_on_rig.h"
 
 namespace motionfork::app {
@@ -27,33 +21,10 @@ struct ExportOptions {
 };
 
 void RunExport(const ExportOptions& o, const GlobalOptions& global) {
-  std::string ext = o.out.size() >= 4 ? o.out.substr(o.out.size() - 4) : "";
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  if (ext != ".bvh") {
-    throw std::invalid_argument("-o '" + o.out + "': expected a path ending in .bvh");
-  }
   BvhWriteOptions bvh = o.bvh;
   bvh.fit.lengths = o.lengths == "exact" ? BoneLengths::kExact : BoneLengths::kMean;
-  ValidateBvhWriteOptions(bvh);
-  const Prediction p = ReadPrediction(o.prediction);
-  const pipeline::RigChoice rig = pipeline::RigSource(p, o.rig, o.prediction);
-  if (!rig.note.empty()) PrintText(rig.note + "\n");
-  if (!rig.path.empty()) {
-    const pipeline::UserRig user = pipeline::ReadUserRig(rig.path, p, ConfigDir(global.config_dir));
-    for (const pipeline::WrittenRigSample& w :
-         pipeline::ExportPredictionOnRig(p, user, o.out, o.sample)) {
-      PrintText(pipeline::RigSampleText(w, user, p));
-    }
-    return;
-  }
-  for (const pipeline::WrittenSample& w :
-       pipeline::ExportPrediction(p, o.prediction, o.out, o.sample, bvh)) {
-    std::printf(
-        "wrote %s: sample %d, %d frames (%d history + %d future) at %.6g Hz, %d joints; "
-        "largest joint displacement from the prediction %.3f mm\n",
-        w.path.c_str(), w.sample.sample, p.frames(), p.t_his, p.t_pred, p.fps, p.joints(),
-        w.sample.deviation * 1000);
-  }
+  PrintText(pipeline::ExportSamples(ReadPrediction(o.prediction), o.prediction, o.out, o.sample,
+                                    o.rig, bvh, ConfigDir(global.config_dir)));
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "io/bvh.h"
+#include "io/bvh_writer.h"
 #include "io/prediction_file.h"
 #include "rig/body_frame.h"
 
@@ -76,5 +77,14 @@ std::vector<WrittenRigSample> ExportPredictionOnRig(const Prediction& p, const U
 // H history + F future frames at R Hz, in centimetres, Z up; largest joint displacement from the
 // prediction X mm" (and a warning when the file's history no longer matches the prediction's).
 std::string RigSampleText(const WrittenRigSample& w, const UserRig& user, const Prediction& p);
+
+// `export`'s whole job: every sample of p (or `sample`) written as BVH on the rig RigSource(p,
+// rig_choice) names (ExportPredictionOnRig), else on the model's skeleton with `options`
+// (ExportPrediction); returns the report, a line per file (and the choice's note). `source`
+// names the prediction in errors and notes. Throws std::invalid_argument for an `out` not ending
+// in .bvh or bad options.
+std::string ExportSamples(const Prediction& p, const std::string& source, const std::string& out,
+                          int sample, const std::string& rig_choice, const BvhWriteOptions& options,
+                          const std::string& config_dir);
 
 }  // namespace motionfork::pipeline

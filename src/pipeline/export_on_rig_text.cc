@@ -1,4 +1,10 @@
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <stdexcept>
+
 #include "core/text_format.h"
+#include "pipeline/export.h"
 #include "pipeline/export_on_rig.h"
 
 namespace motionfork::pipeline {
@@ -18,6 +24,32 @@ std::string RigSampleText(const WrittenRigSample& w, const UserRig& user, const 
         "warning: %s: its history lies up to %.1f mm from the prediction's: is it the file the "
         "prediction was made from?\n",
         user.path.c_str(), 1000 * s.history_mismatch);
+  }
+  return text;
+}
+
+std::string ExportSamples(const Prediction& p, const std::string& source, const std::string& out,
+                          int sample, const std::string& rig_choice, const BvhWriteOptions& options,
+                          const std::string& config_dir) {
+  std::string ext = std::filesystem::path(out).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  if (ext != ".bvh")
+    throw std::invalid_argument("-o '" + out + "': expected a path ending in .bvh");
+  ValidateBvhWriteOptions(options);
+  const RigChoice rig = RigSource(p, rig_choice, source);
+  std::string text = rig.note.empty() ? "" : rig.note + "\n";
+  if (!rig.path.empty()) {
+    const UserRig user = ReadUserRig(rig.path, p, config_dir);
+    for (const WrittenRigSample& w : ExportPredictionOnRig(p, user, out, sample))
+      text += RigSampleText(w, user, p);
+    return text;
+  }
+  for (const WrittenSample& w : ExportPrediction(p, source, out, sample, options)) {
+    text += StringPrintf(
+        "wrote %s: sample %d, %d frames (%d history + %d future) at %.6g Hz, %d joints; "
+        "largest joint displacement from the prediction %.3f mm\n",
+        w.path.c_str(), w.sample.sample, p.frames(), p.t_his, p.t_pred, p.fps, p.joints(),
+        w.sample.deviation * 1000);
   }
   return text;
 }

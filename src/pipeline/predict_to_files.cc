@@ -6,7 +6,6 @@
 #include "core/error.h"
 #include "core/text_format.h"
 #include "io/prediction_file.h"
-#include "pipeline/export.h"
 #include "pipeline/export_on_rig.h"
 #include "pipeline/predict_text.h"
 
@@ -28,31 +27,6 @@ std::vector<std::string> OutputsInFolder(const std::string& folder,
   return out;
 }
 
-namespace {
-
-// BASE_00.bvh ...: the samples on the history's own rig when it is a BVH, else the model's.
-std::string WriteSamplesAsBvh(const Prediction& p, const std::string& base,
-                              const std::string& config_dir) {
-  std::string text;
-  const RigChoice rig = RigSource(p, "history", base + ".json");
-  text += rig.note.empty() ? "" : rig.note + "\n";
-  if (!rig.path.empty()) {
-    const UserRig user = ReadUserRig(rig.path, p, config_dir);
-    for (const WrittenRigSample& w : ExportPredictionOnRig(p, user, base + ".bvh", -1))
-      text += RigSampleText(w, user, p);
-    return text;
-  }
-  for (const WrittenSample& w : ExportPrediction(p, base + ".json", base + ".bvh", -1, {})) {
-    text += StringPrintf(
-        "wrote %s: sample %d on the model's skeleton; largest joint displacement "
-        "from the prediction %.2f mm\n",
-        w.path.c_str(), w.sample.sample, 1000 * w.sample.deviation);
-  }
-  return text;
-}
-
-}  // namespace
-
 std::string PredictToFiles(const PredictFiles& files, const std::vector<std::string>& histories,
                            const std::string& out, int threads,
                            const std::function<void(double)>& progress) {
@@ -73,7 +47,10 @@ std::string PredictToFiles(const PredictFiles& files, const std::vector<std::str
         if (n > 1) std::filesystem::create_directories(out);
         const std::string base = WritePrediction(outs[i], p);
         s += PredictionRepairsText(p) + PredictionWrittenText(p, base, notes);
-        if (files.bvh) s += WriteSamplesAsBvh(p, base, files.input.config_dir);
+        // BASE_00.bvh ...: on the history's own rig when it is a BVH, else the model's.
+        if (files.bvh)
+          s += ExportSamples(p, base + ".json", base + ".bvh", -1, "history", {},
+                             files.input.config_dir);
         if (progress) progress(static_cast<double>(++done) / n);
       });
   std::string report;
