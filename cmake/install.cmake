@@ -21,6 +21,8 @@ foreach(lib IN LISTS MOTIONFORK_EXTERNAL_TARGETS)
     list(APPEND MOTIONFORK_PACKAGE_DEPENDENCIES Torch)
   elseif(lib STREQUAL "yaml-cpp")
     list(APPEND MOTIONFORK_PACKAGE_DEPENDENCIES yaml-cpp)
+  elseif(lib STREQUAL "gloo")
+    list(APPEND MOTIONFORK_PACKAGE_DEPENDENCIES Gloo)
   else()
     message(WARNING "cmake/install.cmake: motionfork_api links '${lib}'; add the package that "
                     "defines it here, or find_package(motionfork) users cannot link")

@@ -73,8 +73,13 @@ class DataParallel {
   // Floating-point buffers (batch-norm running statistics) averaged over the workers; integer
   // buffers (batch counts) copied from rank 0.
   void AverageBuffers(torch::nn::Module& module);
-  // values[i] summed over the workers, in place; `what` names the sum in errors.
+  // values[i] summed over the workers, in place; `what` names the sum in errors. Sums of at most
+  // kSmallSumBytes (the synchronised batch statistics) run on the calling thread over Gloo's
+  // synchronous pairs; larger ones through the process group.
   void SumValues(std::vector<double>* values, const char* what = "sum of the logged figures");
+  // Small enough to sit in the sockets' buffers in flight (a synchronous send must not wait for
+  // the peer to read).
+  static constexpr size_t kSmallSumBytes = 128 << 10;
   void Barrier();
 
   // Wall seconds spent in ReduceGradients and the number of calls (benchmarks: the all-reduce's

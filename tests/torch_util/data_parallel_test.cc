@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <functional>
 #include <future>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -127,6 +128,50 @@ TEST_CASE("a worker that stops makes the other's next collective fail, naming it
   REQUIRE_THROWS_WITH(workers.SumValues(&v),
                       Contains("worker rank 0 of 2") && Contains("rank 1 stopped"));
   CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(60));
+}
+
+TEST_CASE("sums of any size agree to the bit on every worker, three workers, sizes interleaved") {
+  // Small sums run on Gloo's synchronous pairs, one algorithm per size; a large one goes through
+  // the process group. Three workers: halving-doubling's non-power-of-two case.
+  const size_t large = DataParallel::kSmallSumBytes / sizeof(double) + 1;
+  std::vector<std::vector<double>> results(3);
+  std::mutex m;
+  OnWorkers(3, [&](DataParallel& workers) {
+    const int r = workers.rank();
+    std::vector<double> all;
+    for (const size_t n : {size_t{3}, size_t{8192}, size_t{3}, large, size_t{8192}, size_t{1}}) {
+      std::vector<double> v(n);
+      for (size_t i = 0; i < n; ++i) v[i] = 0.1 * (r + 1) + 1e-3 * static_cast<double>(i % 97);
+      workers.SumValues(&v);
+      for (size_t i = 0; i < n; i += 1 + n / 50) {
+        CHECK(v[i] == Approx(0.6 + 3e-3 * static_cast<double>(i % 97)).epsilon(1e-12));
+      }
+      all.insert(all.end(), v.begin(), v.end());
+    }
+    std::lock_guard<std::mutex> lock(m);
+    results[r] = all;
+  });
+  CHECK(results[0] == results[1]);
+  CHECK(results[0] == results[2]);
+}
+
+TEST_CASE("a worker that never arrives makes a small sum fail within the timeout, not hang") {
+  const int port = motionfork::FreeLocalPort();
+  std::promise<void> rank0_failed;
+  auto rank1 = std::async(std::launch::async, [&] {
+    DataParallel workers(Place(1, 2, port), std::chrono::seconds(2), std::chrono::seconds(20));
+    workers.Barrier();
+    rank0_failed.get_future().wait();  // alive (its heartbeat goes on) but silent
+  });
+  DataParallel workers(Place(0, 2, port), std::chrono::seconds(2), std::chrono::seconds(20));
+  workers.Barrier();
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<double> v(100, 1.0);
+  CHECK_THROWS_WITH(workers.SumValues(&v, "batch statistics"),
+                    Contains("worker rank 0 of 2") && Contains("batch statistics failed"));
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(20));
+  rank0_failed.set_value();
+  rank1.get();
 }
 
 TEST_CASE("a rendezvous short of WORLD_SIZE or without a master is a clear error") {
