@@ -9,6 +9,9 @@
 //   panel    kernels::MatMul vs LibTorch's mm (OpenBLAS) into a preallocated output, [M, 256] x
 //            [256, 256] at M = 800 (50 futures x 16 nodes, inference) and M = 25,600 (16 histories
 //            x 100 futures x 16 nodes, a training step's hidden layer); the portable MatMul too
+//   bf16     where the CPU has AVX512-BF16: the core's float32 FMA and vdpbf16ps peaks, then
+//            kernels::MatMulBf16 vs the float32 kernels::MatMul vs LibTorch's bf16 mm, the
+//            panel sizes (issue 30)
 //   tanh     kernels::Tanh on 800 x 256 floats, AVX-512 vs portable
 //   mixrows  kernels::MixRows (graph mix + batch norm + tanh + residual) for 50 samples of a
 //            hidden layer (16 nodes, 256 features), AVX-512 vs portable
@@ -28,8 +31,11 @@
 #include <string>
 #include <vector>
 
+#include "fma_peak.h"
 #include "generator/inference/fused_generator.h"
 #include "generator/kernels/backend.h"
+#include "generator/kernels/bf16_product.h"
+#include "generator/kernels/cpu_features.h"
 #include "generator/kernels/panel_product.h"
 #include "generator/kernels/tanh.h"
 #include "generator/model/fused_ops.h"
@@ -97,7 +103,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = argv[++i];
     if (!std::strcmp(argv[i], "--help")) {
       std::printf(
-          "bench_products [--rounds R] [--only panel|tanh|mixrows|fused]:\n"
+          "bench_products [--rounds R] [--only panel|bf16|tanh|mixrows|fused]:\n"
           "interleaved A/B of each AVX-512 kernel against its replacement, one thread\n");
       return 0;
     }
@@ -127,6 +133,32 @@ int main(int argc, char** argv) {
           {"LibTorch mm (OpenBLAS), preallocated output", [&] { at::mm_out(zt, x, w); }},
           {"portable panel kernel", matmul, true}},
          rounds_or(M < 1000 ? 301 : 15), 2.0 * M * K * H / 1e9);
+    }
+  }
+  if (Want(only, "bf16")) {
+    if (!kernels::Bf16KernelRuns()) {
+      std::printf("bf16: the AVX512-BF16 kernel does not run here (build or CPU)\n");
+    } else {
+      const kernels::PackedWeightBf16 packed16 = kernels::PackWeightBf16(w.data_ptr<float>(), K, H);
+      const double fp32_peak = bench::PeakGflops(50000000),
+                   bf16_peak = bench::PeakBf16Gflops(50000000);
+      std::printf("core peak: float32 FMA %.1f GFLOP/s, vdpbf16ps %.1f GFLOP/s (%.2fx)\n",
+                  fp32_peak, bf16_peak, bf16_peak / fp32_peak);
+      for (const int64_t M : {int64_t{800}, int64_t{25600}}) {
+        const torch::Tensor x = torch::randn({M, K});
+        const torch::Tensor xb = x.to(torch::kBFloat16), wb = w.to(torch::kBFloat16);
+        torch::Tensor z = torch::empty({M, H}), zb = torch::empty({M, H}, torch::kBFloat16);
+        const std::string title = "bf16 product [" + std::to_string(M) + ", 256] x [256, 256]";
+        AB(title.c_str(),
+           {{"AVX512-BF16 kernel (X rounded as it enters)",
+             [&] {
+               kernels::MatMulBf16(x.data_ptr<float>(), M, K, packed16, z.data_ptr<float>());
+             }},
+            {"AVX-512 float32 panel kernel",
+             [&] { kernels::MatMul(x.data_ptr<float>(), M, K, packed, z.data_ptr<float>()); }},
+            {"LibTorch bf16 mm (inputs already bf16)", [&] { at::mm_out(zb, xb, wb); }}},
+           rounds_or(M < 1000 ? 301 : 15), 2.0 * M * K * H / 1e9);
+      }
     }
   }
   if (Want(only, "tanh")) {

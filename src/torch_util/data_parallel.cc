@@ -14,11 +14,11 @@
 
 #include <algorithm>
 #include <atomic>
-#include <map>
 #include <cerrno>
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -376,15 +376,14 @@ void DataParallel::AverageBuffers(torch::nn::Module& module) {
 void DataParallel::SumValues(std::vector<double>* values, const char* what) {
   if (!distributed() || values->empty()) return;
   const auto start = std::chrono::steady_clock::now();
-  if (values->size() * sizeof(double) <= kSmallSumBytes) {
+  if (values->size() * sizeof(double) <= small_sum_bytes_) {
     // Every worker sums the same sizes in the same order, so their algorithms (and the Gloo
     // slots they take) are created in the same order.
     SmallSum& sum = group_->small_sums[values->size()];
     if (!sum.algorithm) {
       sum.values.resize(values->size());
       sum.algorithm = std::make_unique<gloo::AllreduceHalvingDoubling<double>>(
-          group_->small, std::vector<double*>{sum.values.data()},
-          static_cast<int>(values->size()));
+          group_->small, std::vector<double*>{sum.values.data()}, static_cast<int>(values->size()));
     }
     std::copy(values->begin(), values->end(), sum.values.begin());
     Collective(what, [&](c10d::ProcessGroupGloo&) { sum.algorithm->run(); });

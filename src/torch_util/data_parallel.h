@@ -10,9 +10,10 @@
 // all-reduce per bucket), so that every worker takes the same optimiser step, and the step is the
 // one a single worker takes on the whole batch. Batch normalisation is the trainer's choice: the
 // generator synchronises its batch statistics over the workers (SumValues forward and backward,
-// generator/model/fused_ops.h: BatchSync); a trainer that normalises each worker's own share
-// (PyTorch DDP's default) calls AverageBuffers before a bundle or checkpoint is written, so that
-// the running statistics are identical on every worker.
+// generator/model/fused_ops.h: BatchSync; these small sums run on the calling thread over Gloo's
+// synchronous pairs, the rest through c10d's ProcessGroupGloo); a trainer that normalises each
+// worker's own share (PyTorch DDP's default) calls AverageBuffers before a bundle or checkpoint is
+// written, so that the running statistics are identical on every worker.
 //
 // Rank 0 alone writes logs, checkpoints and bundles (writes()). A worker that dies makes the
 // others' next collective fail; the error names the rank that stopped (heartbeats in the store).
@@ -80,6 +81,7 @@ class DataParallel {
   // Small enough to sit in the sockets' buffers in flight (a synchronous send must not wait for
   // the peer to read).
   static constexpr size_t kSmallSumBytes = 128 << 10;
+  void set_small_sum_bytes(size_t bytes) { small_sum_bytes_ = bytes; }  // benchmarks: 0 = none
   void Barrier();
 
   // Wall seconds spent in ReduceGradients and the number of calls (benchmarks: the all-reduce's
@@ -103,6 +105,7 @@ class DataParallel {
   std::unique_ptr<const WorkerPlace> place_;  // set when distributed
   std::unique_ptr<Group> group_;
   int64_t bucket_bytes_ = kBucketBytes;
+  size_t small_sum_bytes_ = kSmallSumBytes;
   double reduce_seconds_ = 0, sum_seconds_ = 0;
   int64_t sum_calls_ = 0;
   int64_t reduce_calls_ = 0;

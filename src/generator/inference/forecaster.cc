@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 #include "generator/inference/fused_generator.h"
 #include "generator/inference/pose_repair.h"
@@ -37,8 +38,14 @@ Forecaster::Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net
   impl.net->eval();
   const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
   const std::string fast = fast_env ? fast_env : "";
-  if (fast == "1" || (fast != "0" && kernels::ActiveBackend() == kernels::Backend::kAvx512)) {
-    impl.fused = std::make_unique<FusedGenerator>(*impl.net);
+  // Experimental (issue 30; not yet a flag): MOTIONFORK_PRECISION=bf16 runs the hidden and output
+  // layers' products with bf16 inputs (fused_generator.h), measured against float32 first.
+  const char* precision_env = std::getenv("MOTIONFORK_PRECISION");
+  const bool bf16 = precision_env && std::string(precision_env) == "bf16";
+  if (fast == "1" || bf16 ||
+      (fast != "0" && kernels::ActiveBackend() == kernels::Backend::kAvx512)) {
+    impl.fused = std::make_unique<FusedGenerator>(
+        *impl.net, bf16 ? ProductPrecision::kBf16 : ProductPrecision::kFp32);
   }
   impl.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl.config.skeleton));
   impl.parts = MakePartPlan(*impl.skeleton, impl.config.generator.partition);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/dct.h"
+#include "generator/kernels/bf16_product.h"
 #include "generator/kernels/panel_product.h"
 #include "generator/model/generator_net.h"
 
@@ -30,7 +31,18 @@ PackedWeight Pack(const torch::Tensor& w) {
 // One graph-conv layer, eval mode: weights packed, bias and batch norm folded into a scale and a
 // shift per (node, feature).
 struct Layer {
-  PackedWeight weight, shared;  // shared: the latent's weight (input layer only)
+  PackedWeight weight, shared;         // shared: the latent's weight (input layer only)
+  kernels::PackedWeightBf16 weight16;  // the weight in bf16, when the layer's products use it
+  bool bf16 = false;
+
+  // z [m, padded] = x [m, K] W in the layer's precision.
+  void Product(const float* x, int64_t m, int64_t ldx, float* z) const {
+    if (bf16) {
+      kernels::MatMulBf16(x, m, ldx, weight16, z);
+    } else {
+      kernels::MatMul(x, m, ldx, weight, z);
+    }
+  }
   AlignedFloats adjacency, rowsum, scale, shift;
   bool has_scale = false, tanh = false;
 
@@ -46,9 +58,15 @@ struct Layer {
   }
 };
 
-Layer MakeLayer(const GraphConvImpl& conv, const NodeBatchNormImpl* norm, bool tanh) {
+Layer MakeLayer(const GraphConvImpl& conv, const NodeBatchNormImpl* norm, bool tanh,
+                bool bf16 = false) {
   Layer l;
   l.weight = Pack(conv.weight);
+  if (bf16) {
+    const std::vector<float> v = ToVector(conv.weight);
+    l.weight16 = kernels::PackWeightBf16(v.data(), conv.weight.size(0), conv.weight.size(1));
+    l.bf16 = true;
+  }
   if (conv.shared_weight.defined()) l.shared = Pack(conv.shared_weight);
   const int64_t N = conv.adjacency.size(0), H = conv.weight.size(1), Hp = l.weight.padded;
   const std::vector<float> a = ToVector(conv.adjacency), bias = ToVector(conv.bias);
@@ -148,7 +166,9 @@ void RequireLayer(const GraphConvImpl& conv, int64_t N, int64_t in, int64_t out,
 
 }  // namespace
 
-FusedGenerator::FusedGenerator(const GeneratorNetImpl& net) : model_(std::make_unique<Model>()) {
+FusedGenerator::FusedGenerator(const GeneratorNetImpl& net, ProductPrecision precision)
+    : model_(std::make_unique<Model>()) {
+  const bool bf16 = precision == ProductPrecision::kBf16;
   Model& m = *model_;
   const GeneratorOptions& o = net.options();
   m.N = o.num_nodes;
@@ -180,7 +200,7 @@ FusedGenerator::FusedGenerator(const GeneratorNetImpl& net) : model_(std::make_u
       for (const GraphLayer& layer : {block->first, block->second}) {
         RequireLayer(*layer->conv, m.N, m.H, m.H, "a hidden layer");
         part.hidden.push_back(
-            MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr, true));
+            MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr, true, bf16));
       }
     }
     RequireLayer(*pn.output, m.N, m.H, m.C, "an output layer");
@@ -201,7 +221,7 @@ void FusedGenerator::Model::HiddenLayer(const Layer& layer, const float* x, int6
   const int64_t chunk = std::max<int64_t>(1, 48 / N);  // about 48 rows: 48 KB of products
   for (int64_t s0 = 0; s0 < samples; s0 += chunk) {
     const int64_t count = std::min(chunk, samples - s0);
-    kernels::MatMul(x + s0 * N * H, count * N, H, layer.weight, w.z);
+    layer.Product(x + s0 * N * H, count * N, H, w.z);
     for (int64_t b = 0; b < count; ++b) {
       const int64_t offset = (s0 + b) * N * H;
       kernels::MixRows(e, w.z + b * N * Hp, Hp, H, nullptr, nullptr, N,
@@ -231,7 +251,7 @@ void FusedGenerator::Model::RunPart(const Part& part, float* cur, int64_t sample
   // Output layer, own nodes only: coefficients += A (h W) + b.
   const kernels::LayerEpilogue out = part.output.Epilogue();
   const int64_t Cp = part.output.weight.padded;
-  kernels::MatMul(w.h0, samples * N, H, part.output.weight, w.z);
+  part.output.Product(w.h0, samples * N, H, w.z);
   for (int64_t b = 0; b < samples; ++b) {
     float* c = cur + b * N * C;
     kernels::MixRows(out, w.z + b * N * Cp, Cp, C, nullptr, part.nodes.data(),

@@ -18,10 +18,18 @@ namespace motionfork {
 
 class GeneratorNetImpl;
 
+// The inputs of the hidden layers' products (H x H, nearly all of the work): float32, or bfloat16
+// with float32 sums (kernels/bf16_product.h: the AVX512-BF16 kernel where the CPU has it, a slow
+// portable one elsewhere). The input and output layers, the latent's product and the inverse DCT
+// stay float32 (small; the output layer in bf16 had doubled the futures' deviation), as do batch
+// norm, tanh and the DCT.
+enum class ProductPrecision { kFp32, kBf16 };
+
 class FusedGenerator {
  public:
   // Copies the network's eval-mode weights; the network may change or go afterwards.
-  explicit FusedGenerator(const GeneratorNetImpl& net);
+  explicit FusedGenerator(const GeneratorNetImpl& net,
+                          ProductPrecision precision = ProductPrecision::kFp32);
   ~FusedGenerator();
   FusedGenerator(FusedGenerator&&) noexcept;
   FusedGenerator& operator=(FusedGenerator&&) noexcept;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 
+#include "generator/kernels/bf16_product.h"
 #include "generator/kernels/panel_product.h"
 
 namespace motionfork::kernels {
@@ -17,9 +18,12 @@ using MixRowsFn = void(const LayerEpilogue& e, const float* z, int64_t padded, i
                        const float* shared, const int64_t* nodes, int64_t count,
                        const float* residual, float* out, int64_t ld);
 using TanhFn = void(float* x, int64_t n);
+using MatMulBf16Fn = void(const float* x, int64_t m, int64_t ldx, const PackedWeightBf16& w,
+                          float* z);
 
 namespace portable {
 MatMulFn MatMul;
+MatMulBf16Fn MatMulBf16;
 MixRowsFn MixRows;
 TanhFn Tanh;
 }  // namespace portable
@@ -29,5 +33,9 @@ MatMulFn MatMul;
 MixRowsFn MixRows;
 TanhFn Tanh;
 }  // namespace avx512
+
+namespace avx512bf16 {  // only with MOTIONFORK_KERNELS_AVX512BF16
+MatMulBf16Fn MatMulBf16;
+}  // namespace avx512bf16
 
 }  // namespace motionfork::kernels

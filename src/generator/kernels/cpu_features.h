@@ -7,9 +7,10 @@
 namespace motionfork::kernels {
 
 struct CpuFeatures {
-  bool avx = false;       // AVX, with the OS saving the wider registers
-  bool avx2_fma = false;  // AVX2 and FMA
-  bool avx512 = false;    // AVX-512 F, DQ, BW and VL (the AVX-512 kernels need all four)
+  bool avx = false;          // AVX, with the OS saving the wider registers
+  bool avx2_fma = false;     // AVX2 and FMA
+  bool avx512 = false;       // AVX-512 F, DQ, BW and VL (the AVX-512 kernels need all four)
+  bool avx512_bf16 = false;  // and AVX512-BF16 (vdpbf16ps, bf16_product.h)
 };
 
 // Probed on first use (thread-safe), then cached. All false on CPUs other than x86.
