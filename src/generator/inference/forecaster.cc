@@ -38,8 +38,8 @@ Forecaster::Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net
   impl.net->eval();
   const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
   const std::string fast = fast_env ? fast_env : "";
-  // Experimental (issue 30; not yet a flag): MOTIONFORK_PRECISION=bf16 runs the hidden and output
-  // layers' products with bf16 inputs (fused_generator.h), measured against float32 first.
+  // Experimental (issue 30; not yet a flag): MOTIONFORK_PRECISION=bf16 runs the hidden layers'
+  // products with bf16 inputs (fused_generator.h), measured against float32 first.
   const char* precision_env = std::getenv("MOTIONFORK_PRECISION");
   const bool bf16 = precision_env && std::string(precision_env) == "bf16";
   if (fast == "1" || bf16 ||
