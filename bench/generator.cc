@@ -1,6 +1,11 @@
 // Benchmark: generator inference and training step at GSPS's Human3.6M sizes, one thread.
 //
-//   bench_generator [--threads N]
+//   bench_generator [--threads N] [--reference SCRIPT]
+//
+// --reference bench/reference_gsps.py: the original GSPS generator in PyTorch (/usr/bin/python3 or
+// $MOTIONFORK_PYTHON, with torch: Debian's python3-torch), in its own process on the same threads,
+// timed in turns with the fused path (A/B interleaved); the ratio of the two is the figure that
+// counts.
 //
 // Sizes: 16 nodes, t_his 25, t_pred 100, n_pre 10, hidden 256, 4 blocks, nz 64, 2 parts.
 // Prints, for the fused path (FusedGenerator on its AVX-512 kernels) and for the LibTorch network:
@@ -14,6 +19,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "fma_peak.h"
@@ -23,6 +30,7 @@
 #include "generator/model/generator_net.h"
 #include "generator_sizes.h"
 #include "peak_memory.h"
+#include "reference_process.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 #include "torch_util/threads.h"
@@ -63,8 +71,16 @@ int main(int argc, char** argv) {
   motionfork::UseFastBlasKernels(argv);
   motionfork::KeepFreedMemory();
   int threads = 1;
+  std::string reference_script;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
+      threads = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) {
+      reference_script = argv[++i];
+    } else {
+      std::fprintf(stderr, "usage: bench_generator [--threads N] [--reference SCRIPT]\n");
+      return 2;
+    }
   }
   PinThreads(threads);
   torch::manual_seed(0);
@@ -112,22 +128,60 @@ int main(int argc, char** argv) {
     std::printf(
         "fused: 50 futures of 1 history: %.2f ms median (%.1f GFLOP/s, %.0f%% of that peak)\n",
         f1 * 1e3, 50 * gflop_per_sample / f1, 100 * 50 * gflop_per_sample / f1 / peak);
-    if (kernels::Bf16KernelRuns()) {
-      // Experimental (issue 30): the hidden layers' products with bf16 inputs, A/B in turns
-      // with float32 (medians of 7 rounds of 41 calls each).
-      const FusedGenerator fast16(*net, ProductPrecision::kBf16);
-      std::vector<double> t32, t16;
-      for (int round = 0; round < 7; ++round) {
-        t32.push_back(run_on(fast, 1, 50, 41));
-        t16.push_back(run_on(fast16, 1, 50, 41));
-      }
-      std::sort(t32.begin(), t32.end());
-      std::sort(t16.begin(), t16.end());
-      std::printf(
-          "fused, hidden products in bf16 (AVX512-BF16, vdpbf16ps peak %.1f GFLOP/s): 50 futures "
-          "of 1 history %.2f ms against float32's %.2f ms in the same rounds (%.2fx)\n",
-          bench::PeakBf16Gflops(100000000), t16[3] * 1e3, t32[3] * 1e3, t32[3] / t16[3]);
+    // The engines in turns (medians of 7 rounds; 41 calls a round each, 5 of the reference's):
+    // float32, the hidden layers' products in bf16 where AVX512-BF16 runs (issue 30), and the
+    // reference PyTorch code when asked for.
+    std::unique_ptr<bench::ReferenceProcess> reference;
+    if (!reference_script.empty()) {
+      // Debian's python3-torch installs for /usr/bin/python3 (another python3 may come first on
+      // PATH); $MOTIONFORK_PYTHON chooses another interpreter.
+      const char* python = std::getenv("MOTIONFORK_PYTHON");
+      reference = std::make_unique<bench::ReferenceProcess>(
+          std::vector<std::string>{python ? python : "/usr/bin/python3", reference_script,
+                                   "--serve", "--threads", std::to_string(threads)});
     }
+    const bool bf16 = kernels::Bf16KernelRuns();
+    std::unique_ptr<FusedGenerator> fast16;
+    if (bf16) fast16 = std::make_unique<FusedGenerator>(*net, ProductPrecision::kBf16);
+    std::vector<double> t32, t16, tref;
+    for (int round = 0; round < 7; ++round) {
+      t32.push_back(run_on(fast, 1, 50, 41));
+      if (bf16) t16.push_back(run_on(*fast16, 1, 50, 41));
+      if (reference) {
+        std::vector<double> calls;
+        for (int c = 0; c < 5; ++c) calls.push_back(reference->Run());
+        std::sort(calls.begin(), calls.end());
+        tref.push_back(calls[2]);
+      }
+    }
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    const double m32 = median(t32);
+    std::printf("engines in turns (7 rounds), 50 futures of 1 history:\n");
+    std::printf("  float32, AVX-512 FMA (peak %.1f GFLOP/s): %.2f ms, %.0f%% of that peak\n", peak,
+                m32 * 1e3, 100 * 50 * gflop_per_sample / m32 / peak);
+    if (bf16) {
+      // The bf16 path's products: the hidden layers' in bf16, the input and output layers' in
+      // float32; its share is of the vdpbf16ps peak (what those products could reach at best).
+      const double peak16 = bench::PeakBf16Gflops(100000000), m16 = median(t16);
+      std::printf(
+          "  bf16 products, AVX512-BF16 (vdpbf16ps peak %.1f GFLOP/s): %.2f ms, %.0f%% of that "
+          "peak, %.2fx float32\n",
+          peak16, m16 * 1e3, 100 * 50 * gflop_per_sample / m16 / peak16, m32 / m16);
+    }
+    if (reference) {
+      const double mref = median(tref);
+      std::printf(
+          "  reference: GSPS's generator in PyTorch (%s, %lld parameters): %.2f ms; float32 "
+          "%.2fx faster\n",
+          reference_script.c_str(), reference->parameters(), mref * 1e3, mref / m32);
+      if (bf16)
+        std::printf("  bf16 products %.2fx faster than the reference\n", mref / median(t16));
+    }
+    std::printf("engine of --precision auto here: %s\n",
+                bf16 ? "bf16 products, AVX512-BF16" : "float32, AVX-512 FMA");
     const double per = SixteenOneAtATime(run_fast, 9);
     std::printf(
         "fused: 16 histories x 50 futures, one history at a time: %.1f ms median = %.1f "

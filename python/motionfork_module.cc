@@ -214,22 +214,24 @@ PYBIND11_MODULE(motionfork, m) {
           "load",
           [](const std::string& path, const std::string& constraints, int threads,
              const std::string& config_dir, const std::string& joint_map, const std::string& unit,
-             const std::string& up, const std::string& left_right) {
+             const std::string& up, const std::string& left_right, const std::string& precision) {
             RequireExists(path, "model bundle folder");
-            mf::LoadOptions o{config_dir, constraints, threads, joint_map, unit, up, left_right};
+            mf::LoadOptions o{config_dir, constraints, threads,    joint_map,
+                              unit,       up,          left_right, precision};
             py::gil_scoped_release release;
             return mf::Model::Load(path, o);
           },
           py::arg("path"), py::arg("constraints") = "", py::arg("threads") = 0,
           py::arg("config_dir") = "", py::arg("joint_map") = "", py::arg("unit") = "",
-          py::arg("up") = "", py::arg("left_right") = "",
+          py::arg("up") = "", py::arg("left_right") = "", py::arg("precision") = "fp32",
           "Loads a model bundle. constraints: the angle-range set check() uses (a shipped name or\n"
           "a YAML path; '' = the bundle's own; 'none' = none); threads > 0 pins the thread pools\n"
           "(process-wide); joint_map: how motions of another rig map onto the model's joints\n"
           "('' = the rig convention their names follow; a convention name such as 'mixamo', or\n"
           "a joint map YAML, configs/rigs/README.md); unit ('m', 'cm', 'mm', 'in'), up ('y', 'z',\n"
           "'-z', ...) and left_right ('as-labelled', 'swapped') force how read_motion() and\n"
-          "predict(Motion) read a motion's frame ('' = told from the body).")
+          "predict(Motion) read a motion's frame ('' = told from the body); precision: the\n"
+          "generator's products, 'fp32', 'bf16' (needs AVX512-BF16) or 'auto'.")
       .def_property_readonly("joint_names", &mf::Model::joint_names, "joint names, root first")
       .def_property_readonly("parents", &mf::Model::parents,
                              "parent index per joint, -1 for the root")

@@ -88,6 +88,7 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       "With --model: score the network's raw futures, without moving poses that break the "
       "bundle's angle ranges back inside them");
   AddThreadsOption(cmd, &e.threads);
+  AddPrecisionOption(cmd, &e.precision);
   AddJsonOption(cmd, &o->json, "Every figure");
 }
 

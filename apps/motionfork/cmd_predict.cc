@@ -83,6 +83,7 @@ Several files: OUT/NAME.npy and OUT/NAME.json each, as predicted alone, shared b
                   "export' writes them")
       ->check(CLI::IsMember({"npy", "bvh"}));
   AddThreadsOption(cmd, &o->threads);
+  AddPrecisionOption(cmd, &o->files.precision);
   AddMotionInputOptions(cmd, &o->files.input);
 }
 

@@ -85,7 +85,13 @@ struct PriorTrainCmd {
 
 void RunTrain(const PriorTrainCmd& c, GlobalOptions& g) {
   if (LaunchIfRequested(c.launch, g)) return;
-  pipeline::PriorTrainingRequest o = c.request;
+  TrainPriorOrStop(c.request, g);
+}
+
+}  // namespace
+
+bool TrainPriorOrStop(const pipeline::PriorTrainingRequest& request, GlobalOptions& g) {
+  pipeline::PriorTrainingRequest o = request;
   o.config_dir = ConfigDir(g.config_dir);
   o.cache_dir = CacheDir(g.cache_dir);
   o.threads = o.threads > 0 ? o.threads : DefaultThreads();
@@ -115,10 +121,13 @@ void RunTrain(const PriorTrainCmd& c, GlobalOptions& g) {
   if (!run.completed) {
     PrintText(pipeline::PriorTrainingInterruptedText(o.out));
     g.exit_code = kExitInterrupted;
-    return;
+    return false;
   }
   PrintText(pipeline::PriorTrainingDoneText(run.summary, o.out));
+  return true;
 }
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // score

@@ -11,6 +11,7 @@
 #include "generator/training/training_manifest.h"
 #include "generator/training/training_setup.h"
 #include "generator/training/training_text.h"
+#include "pipeline/prior_training.h"
 #include "validity/pose_validator.h"
 
 namespace motionfork::app {
@@ -46,6 +47,18 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   }
   if (IsRankZero())  // before the data: a refused folder costs nothing
     RecordTrainingConfig(run.out, config_path, run.split_file, run.epochs);
+  // A prior the config names that is not there yet (a user's own dataset): trained first, where
+  // the config names it, on the same data and split (configs/models/flow_prior.yaml).
+  if (!cfg.prior.empty() && !PriorBundleExists(cfg.prior, config_dir)) {
+    PrintText("prior:     " + cfg.prior + " not found: training it first, on the same data\n");
+    pipeline::PriorTrainingRequest prior;
+    prior.protocol = cfg.protocol;
+    prior.data = run.data;
+    prior.split_file = run.split_file;
+    prior.out = cfg.prior;
+    prior.threads = cfg.training.threads;
+    if (!TrainPriorOrStop(prior, g)) return;
+  }
   const Dataset ds = LoadProtocolDataset(cfg.protocol, run.data, run.split_file, g);
   const Skeleton& skeleton = *ds.skeleton.skeleton;
   TrainingWindows data;

@@ -3,6 +3,10 @@
 
 #include <CLI/CLI.hpp>
 
+namespace motionfork::pipeline {
+struct PriorTrainingRequest;
+}
+
 namespace motionfork::app {
 
 struct GlobalOptions {
@@ -20,6 +24,9 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global);
 void AddTrainCommand(CLI::App& app, GlobalOptions& global);
 void AddPredictCommand(CLI::App& app, GlobalOptions& global);
 void AddPriorCommand(CLI::App& app, GlobalOptions& global);
+// `prior train`'s work after the launcher (also `train`'s for a config whose prior is not there
+// yet): trains or resumes, prints its reports; false when interrupted (exit code set).
+bool TrainPriorOrStop(const pipeline::PriorTrainingRequest& request, GlobalOptions& global);
 void AddCheckCommand(CLI::App& app, GlobalOptions& global);
 void AddConstraintsCommand(CLI::App& app, GlobalOptions& global);
 void AddExportCommand(CLI::App& app, GlobalOptions& global);

@@ -106,6 +106,14 @@ void AddThreadsOption(CLI::App* cmd, int* threads) {
       ->check(PositiveNumber);
 }
 
+void AddPrecisionOption(CLI::App* cmd, Precision* precision) {
+  cmd->add_option_function<std::string>(
+         "--precision", [precision](const std::string& s) { *precision = ParsePrecision(s); },
+         "The generator's products: fp32 (default), bf16 (bfloat16 inputs, float32 sums; needs "
+         "AVX512-BF16) or auto (bf16 where the CPU has it); RESULTS.md gives bf16's accuracy")
+      ->check(CLI::IsMember({"fp32", "bf16", "auto"}));
+}
+
 void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,
                           const std::string& windows_help) {
   cmd->add_option("--forecaster", *forecaster,

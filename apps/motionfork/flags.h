@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.h"
+#include "generator/inference/precision.h"
 #include "launch/worker_launcher.h"
 #include "launch/worker_place.h"
 
@@ -94,6 +95,8 @@ CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& h
 // --threads N: threads sharing the windows (0, the default, = every core; experiment_common.h
 // WindowThreads).
 void AddThreadsOption(CLI::App* cmd, int* threads);
+// --precision fp32|bf16|auto (generator/inference/precision.h).
+void AddPrecisionOption(CLI::App* cmd, Precision* precision);
 // --forecaster BUNDLE, --forecast-windows N, -k K: the forecasting figures of the history-repair
 // experiments.
 void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,

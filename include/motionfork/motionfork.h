@@ -71,6 +71,10 @@ struct LoadOptions {
   // pelvis-to-head axis, the knees), as the command does: unit "m", "cm", "mm" or "in"; up "y",
   // "z", "x", "-y", "-z" or "-x"; left_right "as-labelled" or "swapped".
   std::string unit, up, left_right;
+  // The generator's products: "fp32" (float32), "bf16" (bfloat16 inputs and float32 sums, on
+  // CPUs with AVX512-BF16; elsewhere Load throws) or "auto" (bf16 where the CPU has it). bf16's
+  // futures differ from fp32's by a fraction of a millimetre on average (RESULTS.md).
+  std::string precision = "fp32";
 };
 
 // One body part the model samples with its own latent code.

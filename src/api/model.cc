@@ -185,7 +185,9 @@ Model Model::Load(const std::string& bundle_dir, const LoadOptions& options) {
                                 std::to_string(options.threads));
   }
   if (options.threads > 0) PinThreads(options.threads);
+  const Precision precision = ParsePrecision(options.precision);  // before loading anything
   auto impl = std::make_unique<Impl>(LoadForecaster(bundle_dir), bundle_dir);
+  impl->forecaster.SetPrecision(precision);
   const Skeleton& skeleton = impl->skeleton();
   const PartPlan& plan = impl->forecaster.parts();
   for (int p = 0; p < plan.num_parts(); ++p) {

@@ -35,9 +35,10 @@ void ParseModel(const std::string& file, const YAML::Node& n, FlowOptions* o) {
 }
 
 void ParseTraining(const std::string& file, const YAML::Node& n, PriorTrainOptions* o) {
-  CheckKeys(file, n, "training",
-            {"epochs", "constant_epochs", "batch_size", "learning_rate", "weight_decay",
-             "adam_beta1", "adam_beta2", "adam_eps", "seed", "held_out_share", "frame_stride"});
+  CheckKeys(
+      file, n, "training",
+      {"epochs", "constant_epochs", "batch_size", "learning_rate", "weight_decay", "adam_beta1",
+       "adam_beta2", "adam_eps", "seed", "held_out_share", "frame_stride", "min_steps"});
   o->epochs = GetOr<int>(file, n, "epochs", o->epochs);
   o->constant_epochs = GetOr<int>(file, n, "constant_epochs", o->constant_epochs);
   o->batch_size = GetOr<int>(file, n, "batch_size", o->batch_size);
@@ -49,6 +50,7 @@ void ParseTraining(const std::string& file, const YAML::Node& n, PriorTrainOptio
   o->seed = GetOr<uint64_t>(file, n, "seed", o->seed);
   o->held_out_share = GetOr<double>(file, n, "held_out_share", o->held_out_share);
   o->frame_stride = GetOr<int>(file, n, "frame_stride", o->frame_stride);
+  o->min_steps = GetOr<int>(file, n, "min_steps", o->min_steps);
 }
 
 PriorConfig ParseConfigSections(const std::string& file, const YAML::Node& root) {

@@ -1,6 +1,7 @@
 #include "config/protocol_config.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "config/yaml_util.h"
 
@@ -71,6 +72,27 @@ ProtocolOptions LoadProtocolConfig(const std::string& path) {
     if (const YAML::Node mm = root["multimodal"]) {
       o.multimodal_threshold = GetOr<double>(path, mm, "threshold", 0.5);
       o.keep_singleton_sets = GetOr<bool>(path, mm, "keep_singletons", true);
+    }
+    if (const YAML::Node list = root["published"]) {
+      if (!list.IsSequence())
+        Fail(path, list, "published: expected a list of {method, source, apd, ade, fde, ...}");
+      for (const YAML::Node& e : list) {
+        if (!e.IsMap()) Fail(path, e, "published: expected {method, source, apd, ade, ...}");
+        PublishedFigures f;
+        f.method = Get<std::string>(path, e, "method");
+        f.source = Get<std::string>(path, e, "source");
+        const std::pair<const char*, double*> numbers[] = {{"apd", &f.apd},
+                                                           {"ade", &f.ade},
+                                                           {"fde", &f.fde},
+                                                           {"mmade", &f.mmade},
+                                                           {"mmfde", &f.mmfde}};
+        for (const auto& [key, value] : numbers) {
+          *value = Get<double>(path, e, key);
+          if (!(*value >= 0) || !std::isfinite(*value))
+            Fail(path, e[key], std::string("published.") + key + ": expected a number >= 0");
+        }
+        o.published.push_back(f);
+      }
     }
     ValidateProtocol(o);
     return o;

@@ -22,6 +22,14 @@ inline constexpr EnumName<RootHandling> kRootHandlingNames[] = {
     {RootHandling::kRelative, "relative"},
     {RootHandling::kAbsolute, "absolute"}};
 
+// A method's published figures on the protocol (K = 50, whole pose vectors, metres), as its paper
+// reports them: what `motionfork eval` prints beside a model's.
+struct PublishedFigures {
+  std::string method;  // "GSPS"
+  std::string source;  // "Mao et al., ICCV 2021, Table 1"
+  double apd = 0, ade = 0, fde = 0, mmade = 0, mmfde = 0;
+};
+
 struct ProtocolOptions {
   std::string name;
   std::string path;      // the YAML it came from
@@ -47,6 +55,7 @@ struct ProtocolOptions {
   bool test_include_last = false;
   double multimodal_threshold = 0.5;  // metres
   bool keep_singleton_sets = true;
+  std::vector<PublishedFigures> published;  // the protocol YAML's `published:` list
 
   int window_length() const { return t_his + t_pred; }
 };

@@ -1,5 +1,6 @@
 #include "flow/flow_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -11,6 +12,17 @@ std::string FlowNumberText(double v) {
   char buf[40];
   std::snprintf(buf, sizeof(buf), "%.17g", v);
   return buf;
+}
+
+PriorSchedule MakePriorSchedule(const PriorTrainOptions& o, int64_t steps_per_epoch) {
+  PriorSchedule s{o.epochs, o.constant_epochs, false};
+  const int64_t steps = std::max<int64_t>(1, steps_per_epoch);
+  if (static_cast<int64_t>(o.epochs) * steps >= o.min_steps) return s;
+  s.epochs = static_cast<int>((o.min_steps + steps - 1) / steps);
+  s.constant_epochs = static_cast<int>(
+      std::lround(static_cast<double>(o.constant_epochs) * s.epochs / std::max(1, o.epochs)));
+  s.raised = true;
+  return s;
 }
 
 std::string FormatFlowConfig(const PriorConfig& c) {
@@ -33,6 +45,7 @@ std::string FormatFlowConfig(const PriorConfig& c) {
   s += "  seed: " + std::to_string(t.seed) + "\n";
   s += "  held_out_share: " + FlowNumberText(t.held_out_share) + "\n";
   s += "  frame_stride: " + std::to_string(t.frame_stride) + "\n";
+  s += "  min_steps: " + std::to_string(t.min_steps) + "\n";
   return s;
 }
 

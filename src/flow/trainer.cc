@@ -172,6 +172,18 @@ double PriorLearningRate(const PriorTrainOptions& o, int epoch) {
   return o.learning_rate * std::max(0.0, 1.0 - decay);
 }
 
+bool HeldOutStillFalling(const std::vector<double>& held_out_nll, double* gain) {
+  const int n = static_cast<int>(held_out_nll.size());
+  const int window = std::max(2, n / 10);
+  if (gain) *gain = 0;
+  if (n <= window || !std::isfinite(held_out_nll.back())) return false;
+  double before = held_out_nll[0];
+  for (int e = 1; e < n - window; ++e) before = std::min(before, held_out_nll[e]);
+  const double g = before - held_out_nll.back();
+  if (gain) *gain = g;
+  return g > kPriorStillFallingNats;
+}
+
 double MeanNll(const PosePrior& prior, const PriorFrames& frames) {
   if (frames.size() == 0) return std::nan("");
   const std::vector<double> lp = prior.LogProbDirections(frames.directions);
@@ -183,7 +195,6 @@ double MeanNll(const PosePrior& prior, const PriorFrames& frames) {
 PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
                                  const std::string& checkpoint_path,
                                  const PriorTrainCallbacks& callbacks) {
-  const PriorTrainOptions& o = prior.config().training;
   const int64_t D = prior.dim();
   auto check_dim = [&](const PriorFrames& f, const char* what) {
     if (f.size() > 0 && f.dim != D) {
@@ -202,10 +213,21 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
   auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
+  PriorTrainOutcome outcome;
   PoseFlow& flow = prior.module();
   flow->train();
   std::vector<torch::Tensor> params;
   for (const auto& p : flow->OrderedParameters()) params.push_back(p.second);
+  // The schedule for this data's steps an epoch (at least min_steps in all).
+  const int64_t N = data.train.size();
+  const int64_t B = std::min<int64_t>(prior.config().training.batch_size, N);
+  const int64_t steps = (N + B - 1) / B;
+  const PriorSchedule schedule = MakePriorSchedule(prior.config().training, steps);
+  PriorTrainOptions o = prior.config().training;
+  o.epochs = schedule.epochs;
+  o.constant_epochs = schedule.constant_epochs;
+  outcome.epochs = schedule.epochs;
+  outcome.epochs_raised = schedule.raised;
   torch::optim::Adam adam(params, torch::optim::AdamOptions(o.learning_rate)
                                       .betas({o.adam_beta1, o.adam_beta2})
                                       .eps(o.adam_eps)
@@ -214,7 +236,6 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
   const std::string config_text = FormatFlowConfig(prior.config());
   const std::string fingerprint = DataFingerprint(data);
   CheckpointState state;
-  PriorTrainOutcome outcome;
   // Rank 0 reads the checkpoint; every worker takes its weights, Adam's state and epoch count.
   DataParallel& workers = TrainingWorkers();
   if (workers.distributed()) PinThreads(workers.ThreadsPerWorker(torch::get_num_threads()));
@@ -226,9 +247,6 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
   state.epochs_done = static_cast<int>(resumed[0]);
   outcome.resumed_from_epoch = state.epochs_done;
 
-  const int64_t N = data.train.size();
-  const int64_t B = std::min<int64_t>(o.batch_size, N);
-  const int64_t steps = (N + B - 1) / B;
   const torch::Tensor all =
       torch::from_blob(const_cast<float*>(data.train.directions.data()), {N, D}, torch::kFloat32);
   for (int epoch = state.epochs_done; epoch < o.epochs; ++epoch) {
@@ -313,6 +331,7 @@ PriorTrainOutcome TrainPosePrior(PosePrior& prior, const PriorData& data,
     y.held_out_nll_q99 = Quantile(nll, 0.99);
   }
   y.test_nll = MeanNll(prior, data.test);
+  outcome.still_falling = HeldOutStillFalling(state.held_out_nll, &outcome.recent_gain);
   y.seconds = state.seconds + since(run_start);
   if (!data.bone_lengths.empty()) prior.set_bone_lengths(data.bone_lengths);
   outcome.completed = true;

@@ -38,7 +38,18 @@ struct PriorTrainCallbacks {
 struct PriorTrainOutcome {
   bool completed = false;      // every epoch done (false: stopped on request)
   int resumed_from_epoch = 0;  // epochs the checkpoint already held (0 = fresh start)
+  int epochs = 0;              // the run's epochs (MakePriorSchedule: raised to min_steps)
+  bool epochs_raised = false;  // the config's epochs gave fewer than min_steps steps
+  // Completed with the held-out NLL still falling (HeldOutStillFalling): train longer.
+  bool still_falling = false;
+  double recent_gain = 0;  // nats the last tenth of the epochs gained on the best before them
 };
+
+// Whether a run ended before its held-out NLL stopped falling: the last epoch's NLL is more than
+// kPriorStillFallingNats below the best of the epochs before the last tenth of the run (at least
+// 2 epochs). gain: that difference (0 when too few epochs).
+constexpr double kPriorStillFallingNats = 0.1;
+bool HeldOutStillFalling(const std::vector<double>& held_out_nll, double* gain = nullptr);
 
 // The learning rate of an epoch (0-based) under GSPS's schedule (see PriorTrainOptions).
 double PriorLearningRate(const PriorTrainOptions& options, int epoch);

@@ -205,7 +205,8 @@ Prediction PredictFromFiles(const PredictFiles& files, PredictNotes* notes) {
 void PredictManyFromFiles(const PredictFiles& files, const std::vector<std::string>& histories,
                           int threads, const PredictionDone& done) {
   ValidateForecastRequest(files.request);  // before any bundle is read
-  const Forecaster model = LoadForecaster(files.model_dir);
+  Forecaster model = LoadForecaster(files.model_dir);
+  model.SetPrecision(files.precision);
   const ModelConfig& mc = model.config();
   const int t_his = mc.generator.t_his;
   if (files.imputer_dir.empty() && !files.masks.empty())

@@ -93,7 +93,8 @@ struct PredictFiles {
   // Also write every sample as BVH (OUT_00.bvh ...): on the history's own rig when it is a BVH
   // file (pipeline/export_on_rig.h), else on the model's skeleton (pipeline/export.h).
   bool bvh = false;
-  ForecastRequest request;  // k, seed, fixed parts, repair
+  ForecastRequest request;                 // k, seed, fixed parts, repair
+  Precision precision = Precision::kFp32;  // the generator's products (precision.h)
 };
 
 // What the run saw on the way, for the caller to report.

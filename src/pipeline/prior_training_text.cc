@@ -1,8 +1,10 @@
 #include "pipeline/prior_training_text.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/text_format.h"
+#include "flow/trainer.h"
 
 namespace motionfork::pipeline {
 
@@ -27,12 +29,23 @@ std::string PriorTrainingStartText(const PosePrior& prior, const PriorData& data
     StringAppendf(&s, ", %s frames skipped (zero-length bone)",
                   WithThousands(data.dropped_frames).c_str());
   }
+  const int64_t batch = std::min<int64_t>(t.batch_size, std::max<int64_t>(1, data.train.size()));
+  const int64_t steps = (data.train.size() + batch - 1) / batch;
+  const PriorSchedule run = MakePriorSchedule(t, steps);
   StringAppendf(
       &s,
-      "\ntraining:  %d epochs, batch %d, Adam lr %g (constant %d epochs, then linear), weight "
-      "decay %g, seed %llu, %d thread%s\n",
-      t.epochs, t.batch_size, t.learning_rate, t.constant_epochs, t.weight_decay,
-      static_cast<unsigned long long>(t.seed), o.threads, o.threads == 1 ? "" : "s");
+      "\ntraining:  %d epochs of %s step%s, batch %d, Adam lr %g (constant %d epochs, then "
+      "linear), weight decay %g, seed %llu, %d thread%s\n",
+      run.epochs, WithThousands(steps).c_str(), steps == 1 ? "" : "s", t.batch_size,
+      t.learning_rate, run.constant_epochs, t.weight_decay, static_cast<unsigned long long>(t.seed),
+      o.threads, o.threads == 1 ? "" : "s");
+  if (run.raised) {
+    StringAppendf(&s,
+                  "           (the config's %d epochs are %s steps on this data: raised to reach "
+                  "training.min_steps %s)\n",
+                  t.epochs, WithThousands(static_cast<int64_t>(t.epochs) * steps).c_str(),
+                  WithThousands(t.min_steps).c_str());
+  }
   return s;
 }
 
@@ -50,6 +63,14 @@ std::string PriorTrainingDoneText(const PriorTrainingSummary& y, const std::stri
                 y.held_out_nll.empty() ? std::nan("") : y.held_out_nll.back(), y.held_out_nll_q50,
                 y.held_out_nll_q99, y.test_nll, Duration(y.seconds).c_str());
   StringAppendf(&s, "bundle:    %s (prior.yaml, weights.npy, train_log.tsv)\n", out.c_str());
+  double gain = 0;
+  if (HeldOutStillFalling(y.held_out_nll, &gain)) {
+    StringAppendf(&s,
+                  "warning:   the held-out NLL was still falling (%.2f nats below the best before "
+                  "the last tenth of the epochs): train longer (training.min_steps or "
+                  "training.epochs, --restart)\n",
+                  gain);
+  }
   return s;
 }
 

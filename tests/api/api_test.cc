@@ -126,6 +126,46 @@ TEST_CASE("Model::Predict gives k futures of future_frames frames, as the Foreca
   CHECK(model.Predict(last5, {6, 11, {}}).positions == f.positions);
 }
 
+TEST_CASE("LoadOptions::precision: fp32, bf16 where the CPU has AVX512-BF16, auto") {
+  CHECK(ParsePrecision("fp32") == Precision::kFp32);
+  CHECK(ParsePrecision("bf16") == Precision::kBf16);
+  CHECK(ParsePrecision("auto") == Precision::kAuto);
+  CHECK_THROWS_WITH(ParsePrecision("fp16"), Contains("expected fp32, bf16 or auto, got 'fp16'"));
+  CHECK(ResolvePrecision(Precision::kAuto) ==
+        (Bf16ProductsAvailable() ? Precision::kBf16 : Precision::kFp32));
+  LoadOptions o;
+  o.precision = "fp16";
+  CHECK_THROWS_WITH(LoadTiny(o), Contains("expected fp32, bf16 or auto"));
+  const Futures fp32 = LoadTiny().Predict(History(), {6, 11, {}});
+  o.precision = "auto";
+  const Futures any = LoadTiny(o).Predict(History(), {6, 11, {}});
+  o.precision = "bf16";
+  if (!Bf16ProductsAvailable()) {
+    CHECK_THROWS_WITH(LoadTiny(o), Contains("AVX512-BF16"));
+    CHECK(any.positions == fp32.positions);  // auto: fp32 here
+    return;
+  }
+  // bf16 products: other futures (the hidden layers' inputs rounded), close to fp32's.
+  const Futures bf16 = LoadTiny(o).Predict(History(), {6, 11, {}});
+  CHECK(any.positions == bf16.positions);  // auto: bf16 here
+  CHECK(bf16.positions != fp32.positions);
+  double worst = 0;
+  for (size_t i = 0; i < bf16.positions.size(); ++i)
+    worst = std::max(worst, double(std::abs(bf16.positions[i] - fp32.positions[i])));
+  CHECK(worst < 0.01);
+  // The Forecaster switches back and forth.
+  Forecaster forecaster = LoadForecaster(Bundle());
+  const Motion history(forecaster.skeleton(), 30.0, History());
+  ForecastRequest request;
+  request.k = 6;
+  request.seed = 11;
+  forecaster.SetPrecision(Precision::kBf16);
+  CHECK(forecaster.precision() == Precision::kBf16);
+  CHECK(forecaster.Predict(history, 7, request).futures == bf16.positions);
+  forecaster.SetPrecision(Precision::kFp32);
+  CHECK(forecaster.Predict(history, 7, request).futures == fp32.positions);
+}
+
 TEST_CASE("Model::Predict: the same seed gives the same futures, another seed others") {
   const Model model = LoadTiny();
   const Futures a = model.Predict(History(), {4, 3, {}});

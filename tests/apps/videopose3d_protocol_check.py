@@ -44,6 +44,32 @@ def expected(npz, p):
     return out
 
 
+def check_published(binary, layout, data, tmp):
+    """eval prints the protocol's published figures (GSPS, DLow, ...) beside the run's, and its
+    JSON holds them; a run with K = 20 says it is not comparable."""
+    failures = 0
+    for k in (50, 20):
+        report = os.path.join(tmp, "%s_eval_%d.json" % (layout, k))
+        text = subprocess.run([binary, "--cache-dir", "none", "--quiet", "eval", "--baseline",
+                               "zero-velocity", "--protocol", layout, "--data", data, "-k", str(k),
+                               "--json", report], check=True, capture_output=True,
+                              text=True).stdout
+        with open(report) as f:
+            got = json.load(f)
+        methods = [p["method"] for p in got["published"]]
+        differences = got["published_not_comparable_because"]
+        ok = ("GSPS" in methods and "DLow" in methods and "published figures" in text and
+              "this run leads on" in text and
+              (differences == [] if k == 50 else differences == ["K = 20"]) and
+              ("NOT comparable" in text) == (k != 50) and
+              # zero-velocity's APD is 0: it never leads on diversity
+              all("APD" not in p["this_run_leads_on"] for p in got["published"]))
+        failures += not ok
+        print("%s %-8s eval -k %d prints the published figures %s (not comparable: %s)" %
+              ("ok  " if ok else "FAIL", layout, k, methods, differences))
+    return failures
+
+
 def main():
     binary, source = sys.argv[1], sys.argv[2]
     tool = os.path.join(source, "tools", "videopose3d_to_motionfork.py")
@@ -72,6 +98,7 @@ def main():
             if want["test"]["test_windows"] == 0 or want["train"]["usable"] == 0:
                 print("FAIL %s: the synthetic file gives no windows; the check proves nothing" % layout)
                 failures += 1
+            failures += check_published(binary, layout, out, tmp)
     return 1 if failures else 0
 
 

@@ -47,6 +47,17 @@ TEST_CASE("shipped protocols carry the published settings") {
   CHECK(b.unit_scale == 0.01);
   CHECK(b.split_file == "split.tsv");
   CHECK(b.format == SourceFormat::kBvh);
+  CHECK(b.published.empty());
+
+  // The papers' tables (K = 50), GSPS's and DLow's among them.
+  REQUIRE(e.published.size() == 4);
+  CHECK(e.published[1].method == "GSPS");
+  CHECK(e.published[1].source.find("ICCV 2021") != std::string::npos);
+  CHECK(e.published[1].apd == 5.825);
+  CHECK(e.published[1].mmfde == 0.331);
+  REQUIRE(h.published.size() == 4);
+  CHECK(h.published[0].method == "DLow");
+  CHECK(h.published[0].ade == 0.425);
 }
 
 TEST_CASE("protocol configs name the broken field") {
@@ -62,4 +73,13 @@ TEST_CASE("protocol configs name the broken field") {
   std::ofstream(path) << "name: p\nskeleton: bandai\nsource: {format: bvh}\nfps: fast\n";
   CHECK_THROWS_WITH(LoadProtocolConfig(path),
                     Catch::Contains("'fps'") && Catch::Contains("line 4"));
+  const std::string good =
+      "name: p\nskeleton: bandai\nsource: {format: bvh}\nfps: 30\nt_his: 1\n"
+      "t_pred: 60\n";
+  std::ofstream(path) << good << "published:\n  - {method: X, source: Y, apd: 1, ade: 0.2}\n";
+  CHECK_THROWS_WITH(LoadProtocolConfig(path), Catch::Contains("line 8") && Catch::Contains("fde"));
+  std::ofstream(path) << good
+                      << "published:\n  - {method: X, source: Y, apd: -1, ade: 0.2, fde: 0.2, "
+                         "mmade: 0.3, mmfde: 0.3}\n";
+  CHECK_THROWS_WITH(LoadProtocolConfig(path), Catch::Contains("published.apd"));
 }

@@ -46,6 +46,7 @@ PriorConfig SmallConfig(int epochs = 4) {
   c.training.batch_size = 256;
   c.training.held_out_share = 0.1;
   c.training.seed = 3;
+  c.training.min_steps = 0;  // the epochs as given
   return c;
 }
 
@@ -110,6 +111,48 @@ TEST_CASE("the learning-rate schedule is GSPS's: constant, then linear decay per
   CHECK(PriorLearningRate(o, 5) == 1e-2);
   CHECK(PriorLearningRate(o, 6) == Approx(1e-2 * (1 - 1.0 / 21)));
   CHECK(PriorLearningRate(o, 24) == Approx(1e-2 * (1 - 19.0 / 21)));
+}
+
+TEST_CASE("the schedule reaches training.min_steps on small data; a still-falling run is told") {
+  PriorTrainOptions o;  // 25 epochs, 5 constant, at least 1,500 steps
+  const PriorSchedule bandai = MakePriorSchedule(o, 62);  // 1,550 steps: as configured
+  CHECK((bandai.epochs == 25 && bandai.constant_epochs == 5 && !bandai.raised));
+  const PriorSchedule humaneva = MakePriorSchedule(o, 1);  // 3,596 frames, batch 4,096
+  CHECK((humaneva.epochs == 1500 && humaneva.constant_epochs == 300 && humaneva.raised));
+  const PriorSchedule some = MakePriorSchedule(o, 7);  // 1,500 / 7 -> 215 epochs (1,505 steps)
+  CHECK((some.epochs == 215 && some.constant_epochs == 43));
+  o.min_steps = 0;
+  CHECK(MakePriorSchedule(o, 1).epochs == 25);
+
+  double gain = 0;
+  CHECK(HeldOutStillFalling({5, 3, 2, 1.5, 1.2, 1.0, 0.8, 0.6, 0.4, 0.2}, &gain));
+  CHECK(gain == Approx(1.0 - 0.2));  // best before the last 2 epochs: 1.0
+  CHECK_FALSE(HeldOutStillFalling({5, 3, 2, 1, 1, 1, 1, 1, 1, 0.95}, &gain));
+  CHECK_FALSE(HeldOutStillFalling({5, 3}));  // too few epochs to tell
+
+  // Training: 200 frames in one batch = 1 step an epoch; 2 epochs raised to min_steps 40.
+  PinThreads(1);
+  const Dataset ds = SyntheticDataset(6, 60);
+  PriorConfig config = SmallConfig(2);
+  config.training.batch_size = 4096;
+  config.training.held_out_share = 0.25;
+  config.training.min_steps = 40;
+  const PriorData data = MakePriorData(ds, config.training);
+  REQUIRE(data.train.size() < 4096);
+  PosePrior prior(ds.skeleton.skeleton, config);
+  int epochs_seen = 0;
+  PriorTrainCallbacks cb;
+  cb.progress = [&](const PriorTrainProgress& p) {
+    epochs_seen += p.epoch_done;
+    CHECK(p.epochs == 40);
+  };
+  const PriorTrainOutcome out = TrainPosePrior(prior, data, "", cb);
+  CHECK((out.completed && out.epochs == 40 && out.epochs_raised));
+  CHECK(epochs_seen == 40);
+  CHECK(prior.summary().epochs_completed == 40);
+  // 40 full-batch steps at lr 1e-2 leave the flow far from converged: said so.
+  CHECK(out.still_falling);
+  CHECK(out.recent_gain > kPriorStillFallingNats);
 }
 
 TEST_CASE("save -> load gives identical log-probs, config, skeleton, summary and bone lengths") {
@@ -296,6 +339,7 @@ TEST_CASE("flow config: defaults are GSPS's, every key round-trips, errors name 
   CHECK(defaults.training.batch_size == 4096);
   CHECK(defaults.training.learning_rate == 1e-2);
   CHECK(defaults.training.weight_decay == 1e-3);
+  CHECK(defaults.training.min_steps == 1500);
   const PriorConfig shipped =
       LoadFlowConfig(std::string(MOTIONFORK_CONFIG_DIR) + "/models/flow_prior.yaml");
   CHECK(FormatFlowConfig(shipped) == FormatFlowConfig(defaults));

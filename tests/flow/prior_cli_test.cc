@@ -204,7 +204,7 @@ TEST_CASE(
   const std::string cache = std::string(MOTIONFORK_BINARY_DIR) + "/test_cache";
   WriteFileAtomically(dir.file("tiny.yaml"),
                       "training:\n  epochs: 40\n  constant_epochs: 10\n  batch_size: 1024\n"
-                      "  frame_stride: 40\n  learning_rate: 3.0e-3\n");
+                      "  frame_stride: 40\n  learning_rate: 3.0e-3\n  min_steps: 0\n");
   const std::string common = "--cache-dir " + cache + " prior train --protocol bandai --data " +
                              data + " --config " + dir.file("tiny.yaml") + " --out ";
   auto run = [&](const std::string& out, const std::string& extra = "") {

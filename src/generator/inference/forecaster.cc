@@ -25,7 +25,20 @@ struct Forecaster::Impl {
   // 2026-12-02), so `net` runs there. MOTIONFORK_FAST_GENERATOR=0 turns it off, =1 on whatever the
   // backend.
   std::unique_ptr<FusedGenerator> fused;
-  std::unique_ptr<PoseRepair> repair;  // when constructed with constraints
+  std::unique_ptr<PoseRepair> repair;      // when constructed with constraints
+  Precision precision = Precision::kFp32;  // resolved: kFp32 or kBf16
+
+  void UsePrecision(Precision resolved) {
+    const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
+    const std::string fast = fast_env ? fast_env : "";
+    const bool bf16 = resolved == Precision::kBf16;
+    fused.reset();
+    if (bf16 || fast == "1" ||
+        (fast != "0" && kernels::ActiveBackend() == kernels::Backend::kAvx512))
+      fused = std::make_unique<FusedGenerator>(
+          *net, bf16 ? ProductPrecision::kBf16 : ProductPrecision::kFp32);
+    precision = resolved;
+  }
 };
 
 Forecaster::Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net,
@@ -36,17 +49,7 @@ Forecaster::Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net
   impl.config = std::move(config);
   impl.net = GeneratorNet(std::move(net));
   impl.net->eval();
-  const char* fast_env = std::getenv("MOTIONFORK_FAST_GENERATOR");
-  const std::string fast = fast_env ? fast_env : "";
-  // Experimental (issue 30; not yet a flag): MOTIONFORK_PRECISION=bf16 runs the hidden layers'
-  // products with bf16 inputs (fused_generator.h), measured against float32 first.
-  const char* precision_env = std::getenv("MOTIONFORK_PRECISION");
-  const bool bf16 = precision_env && std::string(precision_env) == "bf16";
-  if (fast == "1" || bf16 ||
-      (fast != "0" && kernels::ActiveBackend() == kernels::Backend::kAvx512)) {
-    impl.fused = std::make_unique<FusedGenerator>(
-        *impl.net, bf16 ? ProductPrecision::kBf16 : ProductPrecision::kFp32);
-  }
+  impl.UsePrecision(Precision::kFp32);
   impl.skeleton = std::make_shared<const Skeleton>(Skeleton::Build(impl.config.skeleton));
   impl.parts = MakePartPlan(*impl.skeleton, impl.config.generator.partition);
   if (constraints) {
@@ -59,6 +62,12 @@ Forecaster::Forecaster(Forecaster&&) noexcept = default;
 Forecaster& Forecaster::operator=(Forecaster&&) noexcept = default;
 
 const ModelConfig& Forecaster::config() const { return impl_->config; }
+
+void Forecaster::SetPrecision(Precision p) {
+  const Precision resolved = ResolvePrecision(p);
+  if (resolved != impl_->precision) impl_->UsePrecision(resolved);
+}
+Precision Forecaster::precision() const { return impl_->precision; }
 void ValidateForecastRequest(const ForecastRequest& request) {
   if (request.k < 1 || request.k > kMaxFutures) {
     throw std::invalid_argument("expected 1.." + std::to_string(kMaxFutures) +

@@ -13,6 +13,7 @@
 #include "bodyparts/part_plan.h"
 #include "constraints/constraint_spec.h"
 #include "core/motion.h"
+#include "generator/inference/precision.h"
 #include "generator/model/generator_options.h"
 
 namespace motionfork {
@@ -62,6 +63,11 @@ class Forecaster {
   Forecaster& operator=(Forecaster&&) noexcept;
 
   const ModelConfig& config() const;
+  // The products' arithmetic (precision.h; constructed: fp32). kBf16 runs the fused generator
+  // with bf16 products whatever the backend; kAuto resolves for this CPU. Throws what
+  // ResolvePrecision throws. Not thread-safe: set it before predicting.
+  void SetPrecision(Precision p);
+  Precision precision() const;  // as resolved: kFp32 or kBf16
   const std::shared_ptr<const Skeleton>& skeleton() const;
   const PartPlan& parts() const;
   // True when constructed with constraints (a bundle's constraints.yaml), so predictions can be

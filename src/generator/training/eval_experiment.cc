@@ -131,6 +131,7 @@ std::unique_ptr<Predictor> MakePredictor(const EvalExperimentOptions& o, const P
                                          const std::vector<const Motion*>& training) {
   if (!o.model.empty()) {
     Forecaster f = LoadForecaster(o.model);
+    f.SetPrecision(o.precision);
     const ModelConfig& mc = f.config();
     if (!f.skeleton()->SameStructure(*skeleton) || mc.generator.t_his != p.t_his ||
         mc.generator.t_pred != p.t_pred) {
@@ -209,6 +210,27 @@ void LoadTestClips(const EvalExperimentOptions& o, const ProtocolOptions& protoc
 }
 
 }  // namespace
+
+std::vector<std::string> DifferencesFromPublished(const EvalExperimentOptions& o,
+                                                  const EvalExperiment& x) {
+  std::vector<std::string> out;
+  if (o.k != 50) out.push_back("K = " + std::to_string(o.k));
+  if (!x.result.fixed_part.empty()) out.push_back("a fixed part");
+  if (!o.clips.empty()) out.push_back("a clips folder");
+  if (o.subset != "test") out.push_back("the '" + o.subset + "' clips");
+  if (!o.split_file.empty()) out.push_back("another split file");
+  return out;
+}
+
+std::vector<std::string> FiguresLeading(const Figures& ours, const PublishedFigures& p) {
+  std::vector<std::string> out;
+  if (ours.apd > p.apd) out.push_back("APD");
+  if (ours.ade < p.ade) out.push_back("ADE");
+  if (ours.fde < p.fde) out.push_back("FDE");
+  if (ours.mmade < p.mmade) out.push_back("MMADE");
+  if (ours.mmfde < p.mmfde) out.push_back("MMFDE");
+  return out;
+}
 
 std::string CanonicalBaseline(const std::string& name) {
   if (name == "zero-velocity" || name == "zero") return "zero-velocity";

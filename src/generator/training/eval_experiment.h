@@ -13,6 +13,7 @@
 #include "dataset/protocol_options.h"
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
+#include "generator/inference/precision.h"
 
 namespace motionfork {
 
@@ -27,8 +28,9 @@ struct EvalExperimentOptions {
   ClipConform conform_clips;    // how their joints reach the skeleton (eval/clip_folder.h)
   int k = 50;                   // futures per history, >= 2
   uint64_t seed = 0;
-  std::string fix;          // a part of the default partition shared by every sample; ""
-  bool repair = true;       // learned predictor: the bundle's angle-range repair
+  std::string fix;     // a part of the default partition shared by every sample; ""
+  bool repair = true;  // learned predictor: the bundle's angle-range repair
+  Precision precision = Precision::kFp32;  // learned predictor: its products (precision.h)
   std::string constraints;  // "" = the protocol's shipped set when there is one; "none" = off
   std::string prior;        // "" = <models_dir>/prior-<protocol> when shipped; "none" = off
   std::string config_dir;   // protocols/, skeletons/, constraints/
@@ -56,6 +58,14 @@ struct EvalExperiment {
   double seconds_loading = 0, seconds_multimodal = 0, seconds_predictor_setup = 0;
   double seconds_total = 0;
 };
+
+// Whether a run's figures compare with the protocol's published ones (K = 50 on the protocol's own
+// whole test split, no fixed part); else what differs ("K = 20", "a clips folder", ...).
+std::vector<std::string> DifferencesFromPublished(const EvalExperimentOptions& options,
+                                                  const EvalExperiment& x);
+// The figures (of apd, ade, fde, mmade, mmfde) where `ours` beats `published` (APD: higher; the
+// rest: lower).
+std::vector<std::string> FiguresLeading(const Figures& ours, const PublishedFigures& published);
 
 // The baselines' canonical name for an alias; throws std::invalid_argument naming the known ones.
 std::string CanonicalBaseline(const std::string& name);

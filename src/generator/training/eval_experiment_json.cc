@@ -69,6 +69,19 @@ json EvalExperimentJson(const EvalExperimentOptions& o, const EvalExperiment& x)
     }
   }
   j["per_action"] = per_action;
+  json published = json::array();
+  for (const PublishedFigures& pf : p.published) {
+    published.push_back({{"method", pf.method},
+                         {"source", pf.source},
+                         {"apd", pf.apd},
+                         {"ade", pf.ade},
+                         {"fde", pf.fde},
+                         {"mmade", pf.mmade},
+                         {"mmfde", pf.mmfde},
+                         {"this_run_leads_on", FiguresLeading(r.overall, pf)}});
+  }
+  j["published"] = published;
+  j["published_not_comparable_because"] = DifferencesFromPublished(o, x);
   j["seconds"] = {{"total", x.seconds_total},
                   {"loading", x.seconds_loading},
                   {"test_windows_and_multimodal", x.seconds_multimodal},

@@ -76,10 +76,37 @@ void AppendTable(std::string* s, const EvalExperiment& x) {
 
 }  // namespace
 
+// The protocol's published figures beside this run's, and where this run leads each.
+void AppendPublished(std::string* s, const EvalExperimentOptions& o, const EvalExperiment& x) {
+  const std::vector<PublishedFigures>& published = x.protocol.published;
+  if (published.empty()) return;
+  const Figures& f = x.result.overall;
+  std::vector<std::string> differences = DifferencesFromPublished(o, x);
+  std::string note = "K = 50 on the whole test split, as published";
+  if (!differences.empty()) {
+    note = "NOT comparable: this run has ";
+    for (size_t i = 0; i < differences.size(); ++i) note += (i ? ", " : "") + differences[i];
+  }
+  StringAppendf(s, "\npublished figures (%s; %s):\n%-16s %7s %7s %7s %7s %7s  %s\n",
+                x.protocol.path.c_str(), note.c_str(), "method", "APD", "ADE", "FDE", "MMADE",
+                "MMFDE", "this run leads on");
+  StringAppendf(s, "%-16s %7.3f %7.3f %7.3f %7.3f %7.3f\n", x.predictor_name.c_str(), f.apd, f.ade,
+                f.fde, f.mmade, f.mmfde);
+  for (const PublishedFigures& p : published) {
+    const std::vector<std::string> leads = FiguresLeading(f, p);
+    std::string lead = leads.empty() ? "none" : "";
+    for (size_t i = 0; i < leads.size(); ++i) lead += (i ? ", " : "") + leads[i];
+    StringAppendf(s, "%-16s %7.3f %7.3f %7.3f %7.3f %7.3f  %s (%zu of 5)   [%s]\n",
+                  p.method.c_str(), p.apd, p.ade, p.fde, p.mmade, p.mmfde, lead.c_str(),
+                  leads.size(), p.source.c_str());
+  }
+}
+
 std::string EvalExperimentText(const EvalExperimentOptions& options, const EvalExperiment& x) {
   std::string s;
   AppendHeader(&s, options, x);
   AppendTable(&s, x);
+  AppendPublished(&s, options, x);
   return s;
 }
 

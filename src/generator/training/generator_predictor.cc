@@ -23,7 +23,7 @@ std::string GeneratorPredictor::description() const {
          std::to_string(forecaster_.parts().num_parts()) + " parts" +
          (forecaster_.repairs() ? (repair_ ? ", angle-range repair on" : ", angle-range repair off")
                                 : "") +
-         ")";
+         ", " + PrecisionName(forecaster_.precision()) + " products)";
 }
 
 void GeneratorPredictor::DoPredict(const float* history, const PredictRequest& request,

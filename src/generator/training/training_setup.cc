@@ -57,6 +57,16 @@ void RecordTrainingConfig(const std::string& out, const std::string& config_path
   WriteFileAtomically(recorded.string(), header + kConfigMark + body);
 }
 
+std::string FindPriorBundle(const std::string& prior, const std::string& config_dir) {
+  const fs::path from_tree = fs::path(config_dir).parent_path() / prior;
+  if (!fs::is_directory(prior) && fs::is_directory(from_tree)) return from_tree.string();
+  return prior;
+}
+
+bool PriorBundleExists(const std::string& prior, const std::string& config_dir) {
+  return fs::exists(fs::path(FindPriorBundle(prior, config_dir)) / "prior.yaml");
+}
+
 LossHookSources MakeLossHooks(const GeneratorTrainConfig& cfg, const Skeleton& skeleton,
                               const std::string& config_dir) {
   LossHookSources s;
@@ -74,11 +84,7 @@ LossHookSources MakeLossHooks(const GeneratorTrainConfig& cfg, const Skeleton& s
     };
   }
   if (!cfg.prior.empty()) {
-    s.prior_dir = cfg.prior;
-    const fs::path from_tree = fs::path(config_dir).parent_path() / s.prior_dir;
-    if (!fs::is_directory(s.prior_dir) && fs::is_directory(from_tree)) {
-      s.prior_dir = from_tree.string();
-    }
+    s.prior_dir = FindPriorBundle(cfg.prior, config_dir);
     auto prior = std::make_shared<PosePrior>(LoadPosePrior(s.prior_dir));
     prior->CheckSkeleton(skeleton);
     prior->module()->Freeze();

@@ -21,6 +21,12 @@ std::string TrainingSplitName(const std::string& split_file);
 void RecordTrainingConfig(const std::string& out, const std::string& config_path,
                           const std::string& split_file, int epochs);
 
+// The folder of the prior bundle a config names: as given (relative to the working folder), else
+// relative to the source tree's root (config_dir's parent) when that exists.
+std::string FindPriorBundle(const std::string& prior, const std::string& config_dir);
+// Whether that folder holds a trained prior (prior.yaml).
+bool PriorBundleExists(const std::string& prior, const std::string& config_dir);
+
 // The angle-range and prior loss terms the config names, and what they read (copied into the
 // bundle: it describes itself). Relative prior paths are taken from the source tree's root
 // (config_dir/..) when they do not exist from the working directory.

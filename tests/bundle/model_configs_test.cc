@@ -1,0 +1,54 @@
+// The shipped generator configs (configs/models/): each parses, names a protocol, constraint set
+// and skeleton that exist, and carries GSPS's published settings for its dataset.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <string>
+
+#include "bundle/generator_bundle.h"
+#include "config/config_paths.h"
+#include "config/protocol_config.h"
+
+using namespace motionfork;
+
+namespace {
+
+GeneratorTrainConfig Shipped(const std::string& name) {
+  return LoadGeneratorTrainConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "models", name));
+}
+
+}  // namespace
+
+TEST_CASE("the shipped model configs carry GSPS's settings for their datasets") {
+  for (const std::string name : {"bandai", "humaneva", "h36m"}) {
+    INFO(name);
+    const GeneratorTrainConfig c = Shipped(name);
+    CHECK(c.name == name);
+    CHECK(c.protocol == name);
+    CHECK(c.constraints == name);
+    CHECK(std::filesystem::exists(
+        ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "constraints", c.constraints)));
+    const ProtocolOptions p =
+        LoadProtocolConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "protocols", c.protocol));
+    CHECK(p.name == name);
+    CHECK(c.prior == "models/prior-" + name);
+    CHECK(c.generator.hidden == 256);
+    CHECK(c.generator.blocks == 4);
+    CHECK(c.generator.nz == 64);
+    CHECK(c.losses.past_reconstruction == 100);
+    CHECK(c.losses.limb_length == 500);
+    CHECK(c.losses.best_of_many == 2);
+    CHECK(c.losses.multimodal == 1);
+    CHECK(c.losses.prior_nll == 0.01);
+    CHECK(c.losses.angle == 100);
+  }
+  const GeneratorTrainConfig h = Shipped("h36m");
+  CHECK(h.generator.n_pre == 10);
+  CHECK(h.losses.diversity == std::vector<double>{8, 25});
+  CHECK(h.losses.diversity_scale == std::vector<double>{100, 300});
+  for (const std::string name : {"humaneva", "bandai"}) {
+    const GeneratorTrainConfig e = Shipped(name);
+    CHECK(e.generator.n_pre == 8);
+    CHECK(e.losses.diversity == std::vector<double>{5, 10});
+    CHECK(e.losses.diversity_scale == std::vector<double>{15, 50});
+  }
+}
