@@ -121,13 +121,8 @@ int main(int argc, char** argv) {
     auto run_fast = [&](int64_t histories, int64_t k, int reps) {
       return run_on(fast, histories, k, reps);
     };
-    run_fast(1, 50, 5);
-    const double f1 = run_fast(1, 50, 41);
+    run_fast(1, 50, 46);  // warm-up
     const double peak = 0.5 * (peak_before + bench::PeakGflops(100000000));
-    std::printf("AVX-512 multiply-add peak now: %.1f GFLOP/s\n", peak);
-    std::printf(
-        "fused: 50 futures of 1 history: %.2f ms median (%.1f GFLOP/s, %.0f%% of that peak)\n",
-        f1 * 1e3, 50 * gflop_per_sample / f1, 100 * 50 * gflop_per_sample / f1 / peak);
     // The engines in turns (medians of 7 rounds; 41 calls a round each, 5 of the reference's):
     // float32, the hidden layers' products in bf16 where AVX512-BF16 runs (issue 30), and the
     // reference PyTorch code when asked for.

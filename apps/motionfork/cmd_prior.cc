@@ -72,6 +72,7 @@ PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& chec
       return;
     }
     bar->reset();
+    if (!pipeline::PriorEpochGetsLine(p.epoch, p.epochs)) return;
     PrintText(pipeline::PriorEpochText(p));
     std::fflush(stdout);
   };
@@ -123,7 +124,7 @@ bool TrainPriorOrStop(const pipeline::PriorTrainingRequest& request, GlobalOptio
     g.exit_code = kExitInterrupted;
     return false;
   }
-  PrintText(pipeline::PriorTrainingDoneText(run.summary, o.out));
+  PrintText(pipeline::PriorTrainingDoneText(run, o.out));
   return true;
 }
 

@@ -69,7 +69,8 @@ PriorTrainingRun TrainPriorBundle(const PriorTrainingRequest& o,
   prior.mutable_summary().threads = o.threads;
   if (callbacks.started) callbacks.started(prior, data, config_path);
   if (writes) fs::create_directories(out);
-  run.completed = TrainPosePrior(prior, data, run.checkpoint, callbacks.training).completed;
+  run.outcome = TrainPosePrior(prior, data, run.checkpoint, callbacks.training);
+  run.completed = run.outcome.completed;
   if (!run.completed) return run;
   run.summary = prior.summary();
   if (!writes) return run;

@@ -31,8 +31,9 @@ struct PriorTrainingCallbacks {
 };
 
 struct PriorTrainingRun {
-  bool completed = false;  // false: stopped; the checkpoint keeps every finished epoch
-  std::string checkpoint;  // its path
+  bool completed = false;     // false: stopped; the checkpoint keeps every finished epoch
+  std::string checkpoint;     // its path
+  PriorTrainOutcome outcome;  // epochs, whether raised, whether the held-out NLL still fell
   PriorTrainingSummary summary;
 };
 

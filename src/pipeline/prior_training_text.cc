@@ -55,7 +55,14 @@ std::string PriorEpochText(const PriorTrainProgress& p) {
                       Duration(p.epoch_seconds).c_str());
 }
 
-std::string PriorTrainingDoneText(const PriorTrainingSummary& y, const std::string& out) {
+bool PriorEpochGetsLine(int epoch, int epochs) {
+  if (epochs <= kPriorEpochLines || epoch == 0 || epoch + 1 >= epochs) return true;
+  const int every = (epochs + kPriorEpochLines - 1) / kPriorEpochLines;
+  return (epoch + 1) % every == 0;
+}
+
+std::string PriorTrainingDoneText(const PriorTrainingRun& run, const std::string& out) {
+  const PriorTrainingSummary& y = run.summary;
   std::string s;
   StringAppendf(&s,
                 "done:      held-out NLL %.4f (median %.4f, 99th percentile %.4f), test NLL %.4f "
@@ -63,13 +70,12 @@ std::string PriorTrainingDoneText(const PriorTrainingSummary& y, const std::stri
                 y.held_out_nll.empty() ? std::nan("") : y.held_out_nll.back(), y.held_out_nll_q50,
                 y.held_out_nll_q99, y.test_nll, Duration(y.seconds).c_str());
   StringAppendf(&s, "bundle:    %s (prior.yaml, weights.npy, train_log.tsv)\n", out.c_str());
-  double gain = 0;
-  if (HeldOutStillFalling(y.held_out_nll, &gain)) {
+  if (run.outcome.still_falling) {
     StringAppendf(&s,
                   "warning:   the held-out NLL was still falling (%.2f nats below the best before "
                   "the last tenth of the epochs): train longer (training.min_steps or "
                   "training.epochs, --restart)\n",
-                  gain);
+                  run.outcome.recent_gain);
   }
   return s;
 }

@@ -2,10 +2,7 @@
 // independent implementation of the protocol measured (K = 50, threshold 0.5).
 #include <catch2/catch.hpp>
 
-#include "config/config_paths.h"
-#include "config/protocol_config.h"
-#include "config/skeleton_config.h"
-#include "dataset/dataset.h"
+#include "bandai_real_data.h"
 #include "eval/baselines.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
@@ -33,16 +30,12 @@ TEST_CASE("bandai test split: zero-velocity and nearest neighbours match the ref
     WARN("SKIPPED: ../shared/data/bandai not found");
     return;
   }
-  const ProtocolOptions p =
-      LoadProtocolConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "protocols", "bandai"));
-  const SkeletonConfig s =
-      LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", p.skeleton));
+  testing::TempDir cache;
+  const testing::RealBandai bandai = testing::LoadRealBandai(data, cache.path().string());
+  const ProtocolOptions& p = bandai.protocol;
+  const Dataset& ds = bandai.dataset;
   REQUIRE(p.multimodal_threshold == 0.5);
   REQUIRE(p.keep_singleton_sets);
-  testing::TempDir cache;
-  DatasetLoadOptions load;
-  load.cache_dir = cache.path().string();
-  const Dataset ds = LoadDataset(p, s, data, load);
   std::vector<const Clip*> test;
   std::vector<const Motion*> train;
   for (const Clip& c : ds.clips) {

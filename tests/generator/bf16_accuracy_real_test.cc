@@ -10,11 +10,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "bandai_real_data.h"
 #include "bundle/generator_bundle.h"
-#include "config/config_paths.h"
-#include "config/protocol_config.h"
-#include "config/skeleton_config.h"
-#include "dataset/dataset.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
 #include "generator/inference/precision.h"
@@ -57,14 +54,10 @@ TEST_CASE("bf16 products: futures within 1 mm of fp32's and eval figures within 
     WARN("SKIPPED: ../shared/data/bandai not found");
     return;
   }
-  const ProtocolOptions p =
-      LoadProtocolConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "protocols", "bandai"));
-  const SkeletonConfig s =
-      LoadSkeletonConfig(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "skeletons", p.skeleton));
   testing::TempDir cache;
-  DatasetLoadOptions load;
-  load.cache_dir = cache.path().string();
-  const Dataset ds = LoadDataset(p, s, data, load);
+  const testing::RealBandai bandai = testing::LoadRealBandai(data, cache.path().string());
+  const ProtocolOptions& p = bandai.protocol;
+  const Dataset& ds = bandai.dataset;
   std::vector<const Clip*> test;
   for (const Clip& c : ds.clips)
     if (c.split == Split::kTest) test.push_back(&c);

@@ -66,7 +66,8 @@ void AppendTable(std::string* s, const EvalExperiment& x) {
   StringAppendf(
       s,
       "time:       %s in all: loading %s, test windows + multimodal sets %s, predictor setup "
-      "%s,\n            predictor %s (%.0f%%), metrics %s (%.0f%%)\n",
+      "%s;\n            summed over the threads that measured windows: predictor %s (%.0f%%), "
+      "metrics %s (%.0f%%)\n",
       Duration(x.seconds_total).c_str(), Duration(x.seconds_loading).c_str(),
       Duration(x.seconds_multimodal).c_str(), Duration(x.seconds_predictor_setup).c_str(),
       Duration(r.seconds_predicting).c_str(),
