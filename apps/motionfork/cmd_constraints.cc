@@ -37,6 +37,7 @@ std::string FitCommandLine(const pipeline::ConstraintFitRequest& o, const std::s
   if (o.fit.margin_deg != defaults.margin_deg)
     cmd += StringPrintf(" --margin %g", o.fit.margin_deg);
   if (o.fit.round_deg != defaults.round_deg) cmd += StringPrintf(" --round %g", o.fit.round_deg);
+  if (o.leave_one_out) cmd += " --leave-one-out";
   return cmd;
 }
 
@@ -71,7 +72,8 @@ void AddConstraintsCommand(CLI::App& app, GlobalOptions& global) {
       cmd, global, RunFit, "fit",
       R"(Fit every constraint's range from the training split of a protocol's data: a low and a
 high percentile of the angle over all training frames (left and right pooled), widened by
-a margin, written as a constraint YAML (all-or-nothing) whose header records this command.
+a margin, and widened to a constraint's 'anatomical' limit where it has one; written as a
+constraint YAML (all-or-nothing) whose header records this command.
 The definitions come from --constraints (default: the set named like the protocol's
 skeleton); their ranges, if any, are replaced.)");
   fit->add_option("--protocol", o->request.protocol,
@@ -84,14 +86,18 @@ skeleton); their ranges, if any, are replaced.)");
                   "Definitions: shipped name or YAML path (ranges optional)");
   fit->add_option("--split", o->request.split_file,
                   "Split file overriding the protocol's split.file");
-  fit->add_option("--low", o->request.fit.low_percentile, "Low percentile, percent (default 0.1)");
+  fit->add_option("--low", o->request.fit.low_percentile,
+                  "Low percentile, percent (default 0: the lowest angle)");
   fit->add_option("--high", o->request.fit.high_percentile,
-                  "High percentile, percent (default 99.9)");
+                  "High percentile, percent (default 100: the highest angle)");
   fit->add_option("--margin", o->request.fit.margin_deg,
-                  "Degrees added outside both percentiles (default 2)");
+                  "Degrees added outside both percentiles (default 5)");
   fit->add_option(
       "--round", o->request.fit.round_deg,
       "Round the bounds outwards to a multiple of this many degrees (default 0.1; 0 = off)");
+  fit->add_flag("--leave-one-out", o->request.leave_one_out,
+                "Also fit once per training subject (Bandai: style) without its clips and report "
+                "the share of its frames the ranges flag");
 
   const auto [show, s] = AddSubcommand<ShowOptions>(
       cmd, global, RunShow, "show",

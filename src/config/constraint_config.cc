@@ -17,7 +17,7 @@ using yaml_util::Fail;
 namespace {
 
 const char* const kTopKeys[] = {"name", "skeleton", "sides", "vectors", "constraints", "rigid"};
-const char* const kConstraintKeys[] = {"name", "per_side", "a", "b", "range", "note"};
+const char* const kConstraintKeys[] = {"name", "per_side", "a", "b", "range", "anatomical", "note"};
 
 template <size_t N>
 bool Known(const char* const (&keys)[N], const std::string& key) {
@@ -170,6 +170,34 @@ std::string Scalar(const YAML::Node& n) {
   return n.IsScalar() ? n.as<std::string>() : std::string();
 }
 
+// A [lower, upper] pair of degrees (`range`, `anatomical`): numbers in [0, 180], lower <= upper.
+void ParseDegrees(const std::string& file, const YAML::Node& node, const std::string& who,
+                  const std::string& key, double* lower, double* upper) {
+  if (!node.IsSequence() || node.size() != 2) {
+    Fail(file, node,
+         who + "'" + key + "' must be [lower, upper] in degrees, found " + YAML::Dump(node));
+  }
+  double bound[2];
+  for (int k = 0; k < 2; ++k) {
+    try {
+      bound[k] = node[k].as<double>();
+    } catch (const YAML::Exception&) {
+      Fail(file, node[k], who + key + " bound '" + YAML::Dump(node[k]) + "' is not a number");
+    }
+    if (!std::isfinite(bound[k]) || bound[k] < 0 || bound[k] > 180) {
+      Fail(file, node[k],
+           who + key + " bound " + YAML::Dump(node[k]) + " is outside [0, 180] degrees");
+    }
+  }
+  if (bound[0] > bound[1]) {
+    Fail(file, node,
+         who + key + ": lower bound " + YAML::Dump(node[0]) + " > upper bound " +
+             YAML::Dump(node[1]));
+  }
+  *lower = bound[0];
+  *upper = bound[1];
+}
+
 ConstraintSetSpec ParseRoot(const YAML::Node& root, const std::string& file,
                             const ConstraintLoadOptions& options) {
   ConstraintSetSpec spec;
@@ -289,30 +317,13 @@ ConstraintSetSpec ParseRoot(const YAML::Node& root, const std::string& file,
         Fail(file, n, who + "missing 'range: [lower, upper]' (degrees)");
       }
     } else {
-      if (!range.IsSequence() || range.size() != 2) {
-        Fail(file, range,
-             who + "'range' must be [lower, upper] in degrees, found " + YAML::Dump(range));
-      }
-      double bound[2];
-      for (int k = 0; k < 2; ++k) {
-        try {
-          bound[k] = range[k].as<double>();
-        } catch (const YAML::Exception&) {
-          Fail(file, range[k], who + "range bound '" + YAML::Dump(range[k]) + "' is not a number");
-        }
-        if (!std::isfinite(bound[k]) || bound[k] < 0 || bound[k] > 180) {
-          Fail(file, range[k],
-               who + "range bound " + YAML::Dump(range[k]) + " is outside [0, 180] degrees");
-        }
-      }
-      if (bound[0] > bound[1]) {
-        Fail(
-            file, range,
-            who + "lower bound " + YAML::Dump(range[0]) + " > upper bound " + YAML::Dump(range[1]));
-      }
+      ParseDegrees(file, range, who, "range", &c.lower_deg, &c.upper_deg);
       c.has_range = true;
-      c.lower_deg = bound[0];
-      c.upper_deg = bound[1];
+    }
+    if (const YAML::Node limit = n["anatomical"]) {
+      ParseDegrees(file, limit, who, "anatomical", &c.anatomical_lower_deg,
+                   &c.anatomical_upper_deg);
+      c.has_anatomical = true;
     }
     spec.constraints.push_back(std::move(c));
   }
@@ -439,6 +450,10 @@ std::string FormatConstraintConfig(const ConstraintSetSpec& spec,
       out << "    range: [" << Number(c.lower_deg) << ", " << Number(c.upper_deg) << "]";
       if (!c.range_comment.empty()) out << "  # " << c.range_comment;
       out << "\n";
+    }
+    if (c.has_anatomical) {
+      out << "    anatomical: [" << Number(c.anatomical_lower_deg) << ", "
+          << Number(c.anatomical_upper_deg) << "]\n";
     }
     if (!c.note.empty()) out << "    note: " << YamlString(c.note) << "\n";
   }

@@ -46,6 +46,11 @@ struct ConstraintSpec {
   bool has_range = false;      // false only when loaded for fitting
   double lower_deg = 0;        // degrees, 0 <= lower_deg <= upper_deg <= 180
   double upper_deg = 180;
+  // A limit from the literature (e.g. the GSPS table) where the definition is the seed's: a
+  // fitted range is widened to include it (RangeFitter), so that real motion of a kind the
+  // training data lacks (a dance's deep back bend) is not flagged. The checker reads `range`.
+  bool has_anatomical = false;
+  double anatomical_lower_deg = 0, anatomical_upper_deg = 180;
   std::string note;           // free text kept when the file is written back
   std::string location;       // where it was read ("line 12"), for error messages; may be empty
   std::string range_comment;  // written after the range as a YAML comment (fit statistics)

@@ -79,6 +79,20 @@ void RangeFitter::Add(const Motion& motion) {
   Add(motion.positions().data(), motion.num_frames());
 }
 
+void RangeFitter::Merge(const RangeFitter& other) {
+  if (&other.set_ != &set_ && other.set_.spec().constraints.size() != samples_.size()) {
+    throw std::invalid_argument(
+        "RangeFitter::Merge: the other fitter is for constraint set '" + other.set_.name() + "' (" +
+        std::to_string(other.set_.spec().constraints.size()) + " definitions), this one for '" +
+        set_.name() + "' (" + std::to_string(samples_.size()) + ")");
+  }
+  for (size_t s = 0; s < samples_.size(); ++s) {
+    samples_[s].insert(samples_[s].end(), other.samples_[s].begin(), other.samples_[s].end());
+    degenerate_[s] += other.degenerate_[s];
+  }
+  frames_ += other.frames_;
+}
+
 std::vector<FittedRange> RangeFitter::Fit() const {
   std::vector<FittedRange> out;
   const auto& specs = set_.spec().constraints;
@@ -103,6 +117,11 @@ std::vector<FittedRange> RangeFitter::Fit() const {
       lo = std::floor(lo / options_.round_deg + 1e-6) * options_.round_deg;
       hi = std::ceil(hi / options_.round_deg - 1e-6) * options_.round_deg;
     }
+    if (specs[s].has_anatomical) {
+      r.widened = specs[s].anatomical_lower_deg < lo || specs[s].anatomical_upper_deg > hi;
+      lo = std::min(lo, specs[s].anatomical_lower_deg);
+      hi = std::max(hi, specs[s].anatomical_upper_deg);
+    }
     r.lower_deg = std::max(0.0, std::min(180.0, lo));
     r.upper_deg = std::max(0.0, std::min(180.0, hi));
     out.push_back(r);
@@ -126,9 +145,10 @@ ConstraintSetSpec WithFittedRanges(const ConstraintSetSpec& spec,
     c.upper_deg = std::max(c.lower_deg, std::min(180.0, it->upper_deg));
     char buf[160];
     std::snprintf(
-        buf, sizeof(buf), "fitted: %lld angles, percentiles %.2f .. %.2f deg%s", it->samples,
+        buf, sizeof(buf), "fitted: %lld angles, percentiles %.2f .. %.2f deg%s%s", it->samples,
         it->low_value_deg, it->high_value_deg,
-        it->degenerate ? (", " + std::to_string(it->degenerate) + " undefined").c_str() : "");
+        it->degenerate ? (", " + std::to_string(it->degenerate) + " undefined").c_str() : "",
+        it->widened ? ", widened to the anatomical limit" : "");
     c.range_comment = buf;
   }
   return out;

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
 #include "config/config_paths.h"
@@ -52,23 +53,69 @@ std::string Wrap(const std::string& text, size_t width = 96) {
   return out + line + "\n";
 }
 
-// The held-out split, as a first look at how tight the ranges are.
-void MeasureTest(const Dataset& ds, const std::vector<int>& test, const FitOptions& fit,
-                 ConstraintFit* f) {
-  f->test_violations.assign(f->fitted->num_constraints(), 0);
-  for (int i : test) {
-    const CheckResult r = Check(*f->fitted, ds.clips[i].motion, fit.degeneracy);
-    f->test_frames += r.num_frames;
+// Frames of `clips` against `set`: how many break some range (or have an undefined angle).
+FrameCheck CheckClips(const ConstraintSet& set, const Dataset& ds, const std::vector<int>& clips,
+                      const DegeneracyOptions& degeneracy) {
+  FrameCheck f;
+  f.violations.assign(set.num_constraints(), 0);
+  for (int i : clips) {
+    const CheckResult r = Check(set, ds.clips[i].motion, degeneracy);
+    f.frames += r.num_frames;
     for (int t = 0; t < r.num_frames; ++t) {
       bool bad = false;
       for (int c = 0; c < r.num_constraints; ++c) {
         const AngleStatus s = r.at(t, c);
-        if (IsViolation(s)) ++f->test_violations[c];
+        if (IsViolation(s)) ++f.violations[c];
         bad |= s != AngleStatus::kInside;
       }
-      f->test_invalid += bad;
+      f.flagged += bad;
     }
   }
+  return f;
+}
+
+// Each training subject fitted out: ranges from the others' angles, checked on its frames.
+std::vector<LeftOutSubject> LeaveOneOut(const ConstraintSetSpec& definitions,
+                                        const ConstraintSet& set, const Skeleton& skeleton,
+                                        const Dataset& ds, const std::vector<int>& train,
+                                        const FitOptions& fit, const StageProgress& progress) {
+  std::map<std::string, std::vector<int>> by_subject;
+  for (int i : train) by_subject[ds.clips[i].subject].push_back(i);
+  if (by_subject.size() < 2) {
+    throw std::invalid_argument(
+        "leave-one-out needs training clips of at least two subjects (Bandai: styles); found " +
+        std::to_string(by_subject.size()) +
+        (by_subject.size() == 1 ? " ('" + by_subject.begin()->first + "')" : std::string()));
+  }
+  std::vector<RangeFitter> fitters;
+  for (const auto& [subject, clips] : by_subject) {
+    fitters.emplace_back(set, fit);
+    for (int i : clips) fitters.back().Add(ds.clips[i].motion);
+  }
+  std::vector<LeftOutSubject> out;
+  size_t g = 0;
+  for (const auto& [subject, clips] : by_subject) {
+    RangeFitter others(set, fit);
+    for (size_t h = 0; h < fitters.size(); ++h)
+      if (h != g) others.Merge(fitters[h]);
+    LeftOutSubject l;
+    l.subject = subject;
+    l.clips = static_cast<long long>(clips.size());
+    l.ranges = others.Fit();
+    const ConstraintSet fitted =
+        ConstraintSet::Build(WithFittedRanges(definitions, l.ranges), skeleton);
+    l.check = CheckClips(fitted, ds, clips, fit.degeneracy);
+    out.push_back(std::move(l));
+    ++g;
+    ReportProgress(progress, "leaving one subject out", double(g) / by_subject.size(), subject);
+  }
+  return out;
+}
+
+bool HasAnatomicalLimits(const ConstraintSetSpec& spec) {
+  for (const ConstraintSpec& c : spec.constraints)
+    if (c.has_anatomical) return true;
+  return false;
 }
 
 std::string Header(const ConstraintFitRequest& o, const ConstraintFit& f,
@@ -88,12 +135,25 @@ std::string Header(const ConstraintFitRequest& o, const ConstraintFit& f,
       Fmt("%g", fit.high_percentile) +
       " of the angle over those frames (left and right pooled), widened by " +
       Fmt("%g", fit.margin_deg) + " degrees" +
+      (HasAnatomicalLimits(f.definitions) ? ", then to its 'anatomical' limit where it has one"
+                                          : "") +
       (fit.round_deg > 0 ? ", rounded outwards to " + Fmt("%g", fit.round_deg) + " degrees" : "") +
       ".";
-  if (f.test_frames > 0) {
+  if (f.test.frames > 0) {
     about += " Held-out test split: " + Thousands(test_clips) + " clips, " +
-             Thousands(f.test_frames) + " frames, " +
-             Fmt("%.3f", 100.0 * f.test_invalid / f.test_frames) + "% of them outside some range.";
+             Thousands(f.test.frames) + " frames, " +
+             Fmt("%.3f", 100.0 * f.test.flagged / f.test.frames) + "% of them outside some range.";
+  }
+  if (!f.left_out.empty()) {
+    double worst = 0;
+    std::string who;
+    for (const LeftOutSubject& l : f.left_out) {
+      const double share = l.check.frames ? 100.0 * l.check.flagged / l.check.frames : 0.0;
+      if (share >= worst) worst = share, who = l.subject;
+    }
+    about += " Each of the " + std::to_string(f.left_out.size()) +
+             " training subjects left out in turn (ranges fitted on the others): at most " +
+             Fmt("%.3f", worst) + "% of its frames outside some range ('" + who + "').";
   }
   return "Angle-range constraints for the " + skeleton_name +
          " skeleton. Ranges FITTED from data by:\n  " + o.command_line + "\n" + Wrap(about) +
@@ -139,7 +199,10 @@ ConstraintFit FitConstraints(const ConstraintFitRequest& o) {
   f.train_frames = fitter.frames();
   const ConstraintSetSpec fitted = WithFittedRanges(f.definitions, f.ranges);
   f.fitted = ConstraintSet::Build(fitted, *skeleton.skeleton);
-  MeasureTest(ds, test, o.fit, &f);
+  f.test = CheckClips(*f.fitted, ds, test, o.fit.degeneracy);
+  if (o.leave_one_out) {
+    f.left_out = LeaveOneOut(f.definitions, set, *skeleton.skeleton, ds, train, o.fit, o.progress);
+  }
   f.yaml = FormatConstraintConfig(
       fitted, Header(o, f, skeleton.skeleton->name(), train.size(), test.size()));
   return f;

@@ -21,9 +21,28 @@ struct ConstraintFitRequest {
   std::string constraints;  // definitions (name or YAML path); "" = named like the skeleton
   std::string split_file;   // "" = the protocol's
   FitOptions fit;
+  // Also fit once per subject of the training split (Bandai: style; Human3.6M: subject) on the
+  // other subjects' clips, and measure the left-out subject's frames against those ranges: how
+  // the ranges hold on motion of a kind they never saw.
+  bool leave_one_out = false;
   std::string command_line;  // the command that reproduces the fit, for the file's header
   std::string config_dir, cache_dir;
   StageProgress progress;  // loading, measuring angles
+};
+
+// Frames of some clips measured against a fitted set.
+struct FrameCheck {
+  long long frames = 0;
+  long long flagged = 0;              // frames outside some range or with an undefined angle
+  std::vector<long long> violations;  // [fitted constraints] frames outside that range
+};
+
+// One subject left out of the fit (ConstraintFitRequest::leave_one_out).
+struct LeftOutSubject {
+  std::string subject;  // "" for clips without one
+  long long clips = 0;
+  std::vector<FittedRange> ranges;  // fitted on the other subjects
+  FrameCheck check;                 // this subject's frames against them
 };
 
 struct ConstraintFit {
@@ -31,13 +50,15 @@ struct ConstraintFit {
   ConstraintSetSpec definitions;
   std::optional<ConstraintSet> fitted;  // bound to the protocol skeleton
   std::vector<FittedRange> ranges;      // [definitions.constraints.size()]
-  long long train_frames = 0, test_frames = 0, test_invalid = 0;
-  std::vector<long long> test_violations;  // [fitted constraints]
-  std::string yaml;                        // the constraint YAML to write
+  long long train_frames = 0;
+  FrameCheck test;                       // the held-out test split (frames 0: none)
+  std::vector<LeftOutSubject> left_out;  // by subject name, when asked
+  std::string yaml;                      // the constraint YAML to write
 };
 
 // Throws std::invalid_argument for bad fit options, definitions that do not bind to the
-// skeleton (before the dataset is read), or a data folder without training clips.
+// skeleton (before the dataset is read), a data folder without training clips, or
+// leave_one_out with fewer than two training subjects.
 ConstraintFit FitConstraints(const ConstraintFitRequest& request);
 
 }  // namespace motionfork::pipeline

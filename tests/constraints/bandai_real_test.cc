@@ -113,7 +113,7 @@ TEST_CASE("bandai real data: the committed bandai.yaml is what the fit command p
   }
   const ConstraintSetSpec committed = ShippedConstraints("bandai");
   const ConstraintSet set = ConstraintSet::Build(committed, *ds->skeleton.skeleton);
-  RangeFitter fitter(set);  // the command's defaults: 0.1 / 99.9, 2 degrees, rounded to 0.1
+  RangeFitter fitter(set);  // the command's defaults: 0 / 100, 5 degrees, rounded to 0.1
   for (int i : ds->ClipIndices(Split::kTrain)) fitter.Add(ds->clips[i].motion);
   const ConstraintSetSpec refit = WithFittedRanges(committed, fitter.Fit());
   for (size_t i = 0; i < committed.constraints.size(); ++i) {

@@ -12,6 +12,27 @@
 using namespace motionfork;
 using namespace motionfork::testing;
 
+namespace {
+
+// The h36m set's knee angle alone, its range removed (to be fitted).
+ConstraintSetSpec KneeOnly() {
+  ConstraintSetSpec spec = ShippedConstraints("h36m");
+  spec.constraints.erase(
+      std::remove_if(spec.constraints.begin(), spec.constraints.end(),
+                     [](const ConstraintSpec& c) { return c.name != "Leg2ThighPlane"; }),
+      spec.constraints.end());
+  spec.constraints[0].has_range = false;
+  return spec;
+}
+
+ConstraintBuildOptions WithoutRanges() {
+  ConstraintBuildOptions o;
+  o.require_ranges = false;
+  return o;
+}
+
+}  // namespace
+
 TEST_CASE("percentiles interpolate linearly between order statistics (NumPy's default)") {
   std::vector<float> v;
   for (int i = 100; i >= 0; --i) v.push_back(static_cast<float>(i));  // 0..100, reversed
@@ -33,14 +54,8 @@ TEST_CASE("fitting pools both sides, adds the margin, rounds outwards and writes
   const auto s = ShippedSkeleton("h36m").skeleton;
   const Pose neutral = H36mNeutral(*s);
   const BodyAxes ax = Axes(*s, neutral, "LHip", "RHip", "Hips", "Thorax");
-  ConstraintSetSpec spec = ShippedConstraints("h36m");
-  spec.constraints.erase(
-      std::remove_if(spec.constraints.begin(), spec.constraints.end(),
-                     [](const ConstraintSpec& c) { return c.name != "Leg2ThighPlane"; }),
-      spec.constraints.end());
-  spec.constraints[0].has_range = false;
-  ConstraintBuildOptions no_ranges;
-  no_ranges.require_ranges = false;
+  ConstraintSetSpec spec = KneeOnly();
+  const ConstraintBuildOptions no_ranges = WithoutRanges();
   const ConstraintSet set = ConstraintSet::Build(spec, *s, no_ranges);
   const float rest = CheckPose(set, neutral).angles[0];  // ~96 degrees
 
@@ -97,6 +112,66 @@ TEST_CASE("fitting pools both sides, adds the margin, rounds outwards and writes
   std::vector<AngleStatus> st(2002);
   AngleChecker(bound).Run(frames.data(), 1001, nullptr, st.data());
   for (AngleStatus x : st) CHECK(x == AngleStatus::kInside);
+}
+
+TEST_CASE("fitting widens a range to its anatomical limit and merged fitters fit as one") {
+  const auto s = ShippedSkeleton("h36m").skeleton;
+  const Pose neutral = H36mNeutral(*s);
+  const BodyAxes ax = Axes(*s, neutral, "LHip", "RHip", "Hips", "Thorax");
+  ConstraintSetSpec spec = KneeOnly();
+  const ConstraintBuildOptions no_ranges = WithoutRanges();
+  const ConstraintSet set = ConstraintSet::Build(spec, *s, no_ranges);
+  std::vector<float> first, second;
+  for (int i = 0; i <= 100; ++i) {
+    Pose p = neutral;
+    Rotate(*s, &p, {"LFoot"}, At(*s, p, "LKnee"), ax.left, 0.3f * i);
+    (i % 2 ? first : second).insert((i % 2 ? first : second).end(), p.begin(), p.end());
+  }
+  FitOptions o;
+  o.round_deg = 0;
+  RangeFitter a(set, o), b(set, o), both(set, o);
+  a.Add(first.data(), 50);
+  b.Add(second.data(), 51);
+  both.Add(first.data(), 50);
+  both.Add(second.data(), 51);
+  a.Merge(b);
+  CHECK(a.frames() == 101);
+  const FittedRange merged = a.Fit()[0], whole = both.Fit()[0];
+  CHECK(merged.samples == whole.samples);
+  CHECK(merged.lower_deg == whole.lower_deg);
+  CHECK(merged.upper_deg == whole.upper_deg);
+  CHECK_FALSE(whole.widened);
+  CHECK(whole.upper_deg < 160);  // knees bent at most 30 degrees from ~96
+
+  // A literature limit beyond the data's range widens it, on the side it reaches past.
+  spec.constraints[0].has_anatomical = true;
+  spec.constraints[0].anatomical_lower_deg = 80;
+  spec.constraints[0].anatomical_upper_deg = 180;
+  const ConstraintSet limited = ConstraintSet::Build(spec, *s, no_ranges);
+  RangeFitter c(limited, o);
+  c.Add(first.data(), 50);
+  const std::vector<FittedRange> ranges = c.Fit();
+  CHECK(ranges[0].widened);
+  CHECK(ranges[0].lower_deg == 80);
+  CHECK(ranges[0].upper_deg == 180);
+  const ConstraintSetSpec fitted = WithFittedRanges(spec, ranges);
+  const std::string text = FormatConstraintConfig(fitted, "fitted by a test");
+  CHECK(text.find("widened to the anatomical limit") != std::string::npos);
+  CHECK(text.find("anatomical: [80, 180]") != std::string::npos);
+  TempDir dir;
+  WriteFileAtomically(dir.file("fitted.yaml"), text);
+  const ConstraintSetSpec back = LoadConstraintConfig(dir.file("fitted.yaml"));
+  CHECK(back.constraints[0].has_anatomical);
+  CHECK(back.constraints[0].anatomical_lower_deg == 80);
+  CHECK(back.constraints[0].anatomical_upper_deg == 180);
+
+  // A limit inside the data's range changes nothing.
+  spec.constraints[0].anatomical_lower_deg = 100;
+  spec.constraints[0].anatomical_upper_deg = 110;
+  const ConstraintSet inner = ConstraintSet::Build(spec, *s, no_ranges);
+  RangeFitter d(inner, o);
+  d.Add(first.data(), 50);
+  CHECK_FALSE(d.Fit()[0].widened);
 }
 
 TEST_CASE("fitting: options are validated, degenerate angles skipped, empty data refused") {
