@@ -1,9 +1,9 @@
 // Issue 30's accuracy checks for the bf16 products, on every fifth window of the Bandai test split
 // with the shipped model: the futures of --precision bf16 against fp32's for the same seed (each
 // future's mean joint distance over its frames: within 1 mm on average; the worst future, as
-// measured on 2026-12-05, 1.19 mm raw and 3.9 mm repaired, held under 2 mm raw), and the protocol
-// figures within 0.001 m. Skipped, visibly,
-// on CPUs without AVX512-BF16 (MOTIONFORK_REQUIRE_BF16=1 makes that a failure) and without
+// measured on 2026-12-05, 1.19 mm raw and 1.46 mm repaired, held under 2 and 3 mm), and the
+// protocol figures within 0.001 m. Skipped, visibly, on CPUs without AVX512-BF16
+// (MOTIONFORK_REQUIRE_BF16=1 makes that a failure) and without
 // ../shared/data/bandai.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -110,8 +110,9 @@ TEST_CASE("bf16 products: futures within 1 mm of fp32's and eval figures within 
                                       << " mm, worst joint " << worst_joint << " mm");
     CHECK(sum / futures <= 1.0);
     // The repair moves a pose that crosses a range's edge in one precision and not the other by
-    // whole Adam steps (millimetres), so only the raw futures have a bound on the worst one.
-    if (!repair) CHECK(worst_future <= 2.0);
+    // whole Adam steps (millimetres); since its poses stop one by one the repaired worst future
+    // is 1.46 mm (it was 3.9 mm when a batch's poses stopped together).
+    CHECK(worst_future <= (repair ? 3.0 : 2.0));
 
     // The protocol figures of the same windows.
     EvalOptions o;

@@ -241,21 +241,31 @@ PoseRepairStats PoseRepair::Repair(torch::Tensor& poses, const torch::Tensor& te
     const torch::Tensor start = poses.index_select(0, selected);
     const torch::Tensor lengths = BoneLengths(start, m.bone_child, m.bone_parent);
     torch::Tensor x = start.clone().requires_grad_(true);
-    torch::optim::Adam adam({x}, torch::optim::AdamOptions(o.step_m));
+    // Adam (PyTorch's update, betas 0.9 / 0.999, eps 1e-8) written out so that each pose stops on
+    // its own: once a check finds it inside every range it is frozen, so a pose's repair does not
+    // depend on the other poses of its batch (nor on how many futures are asked for).
+    constexpr double kBeta1 = 0.9, kBeta2 = 0.999, kEps = 1e-8;
+    torch::Tensor m1 = torch::zeros_like(start), m2 = torch::zeros_like(start);
+    torch::Tensor moving = torch::ones({start.size(0), 1, 1});
     for (int step = 1; step <= o.max_steps; ++step) {
       const torch::Tensor loss =
           o.angle_weight * (m.narrowed->PerConstraint(x) * mask).sum() + (x - start).pow(2).sum() +
           o.bone_weight * (BoneLengths(x, m.bone_child, m.bone_parent) - lengths).pow(2).sum();
-      adam.zero_grad();
-      loss.backward();
+      const torch::Tensor grad = torch::autograd::grad({loss}, {x})[0] * movable;
       {
         torch::NoGradGuard no_grad;
-        x.grad().mul_(movable);
+        m1.mul_(kBeta1).add_(grad, 1 - kBeta1);
+        m2.mul_(kBeta2).addcmul_(grad, grad, 1 - kBeta2);
+        const double correction1 = 1 - std::pow(kBeta1, step),
+                     correction2 = 1 - std::pow(kBeta2, step);
+        const torch::Tensor denom = (m2.sqrt() / std::sqrt(correction2)).add_(kEps);
+        x.sub_(m1 / denom * moving, o.step_m / correction1);
       }
-      adam.step();
       if (step % o.check_every == 0 || step == o.max_steps) {
         torch::NoGradGuard no_grad;
-        if (!((m.original->PerConstraint(x) * mask).sum(-1) > 0).any().item<bool>()) break;
+        const torch::Tensor broken = (m.original->PerConstraint(x) * mask).sum(-1) > 0;
+        moving.mul_(broken.to(torch::kFloat).view({-1, 1, 1}));
+        if (!broken.any().item<bool>()) break;
       }
     }
     torch::NoGradGuard no_grad;

@@ -5,7 +5,9 @@
 //  2. Angle ranges: a pose that still breaks a range is moved, as little as it takes, back inside
 //     every range: gradient steps (Adam) on its joints (not those of rigid groups, placed by
 //     step 1) against the angle penalty with ranges narrowed by a margin, held near the
-//     prediction and to its bone lengths. Poses that break nothing are not touched by this step.
+//     prediction and to its bone lengths; each pose stops as soon as it is inside (checked every
+//     check_every steps), whatever the other poses of its batch. Poses that break nothing are
+//     not touched by this step.
 //
 // Body parts are repaired one at a time and only their own joints move, so part control holds:
 // fixed parts first (against constraints among the root and fixed parts only: identical input
@@ -29,7 +31,7 @@ namespace motionfork {
 struct PoseRepairOptions {
   double margin_deg = 0.5;    // target: this far inside each range (bounds of 0 / 180 stay)
   int max_steps = 200;        // Adam steps per part at most
-  int check_every = 5;        // stop once no selected pose breaks a range (checked this often)
+  int check_every = 5;        // each pose stops once it breaks no range (checked this often)
   double step_m = 0.003;      // Adam learning rate, metres
   double angle_weight = 1e4;  // penalty (squared cosine distance past a bound) weight
   double bone_weight = 100;   // squared bone-length change weight (proximity weight is 1)
