@@ -144,13 +144,9 @@ std::string Header(const ConstraintFitRequest& o, const ConstraintFit& f,
              Thousands(f.test.frames) + " frames, " +
              Fmt("%.3f", 100.0 * f.test.flagged / f.test.frames) + "% of them outside some range.";
   }
-  if (!f.left_out.empty()) {
-    double worst = 0;
-    std::string who;
-    for (const LeftOutSubject& l : f.left_out) {
-      const double share = l.check.frames ? 100.0 * l.check.flagged / l.check.frames : 0.0;
-      if (share >= worst) worst = share, who = l.subject;
-    }
+  double worst = 0;
+  if (const LeftOutSubject* most = MostFlaggedLeftOut(f, &worst)) {
+    const std::string& who = most->subject;
     about += " Each of the " + std::to_string(f.left_out.size()) +
              " training subjects left out in turn (ranges fitted on the others): at most " +
              Fmt("%.3f", worst) + "% of its frames outside some range ('" + who + "').";
@@ -161,6 +157,16 @@ std::string Header(const ConstraintFitRequest& o, const ConstraintFit& f,
 }
 
 }  // namespace
+
+const LeftOutSubject* MostFlaggedLeftOut(const ConstraintFit& fit, double* percent) {
+  const LeftOutSubject* most = nullptr;
+  *percent = 0;
+  for (const LeftOutSubject& l : fit.left_out) {
+    const double share = l.check.frames ? 100.0 * l.check.flagged / l.check.frames : 0.0;
+    if (share >= *percent) *percent = share, most = &l;
+  }
+  return most;
+}
 
 ConstraintFit FitConstraints(const ConstraintFitRequest& o) {
   Validate(o.fit);

@@ -56,6 +56,9 @@ struct ConstraintFit {
   std::string yaml;                      // the constraint YAML to write
 };
 
+// The left-out subject whose frames the ranges flag most (share in percent); nullptr when none.
+const LeftOutSubject* MostFlaggedLeftOut(const ConstraintFit& fit, double* percent);
+
 // Throws std::invalid_argument for bad fit options, definitions that do not bind to the
 // skeleton (before the dataset is read), a data folder without training clips, or
 // leave_one_out with fewer than two training subjects.

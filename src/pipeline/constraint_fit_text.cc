@@ -19,7 +19,6 @@ void AppendLeftOut(std::string* text, const ConstraintFit& f) {
                 "the left-out one's frames):\n%-*s  %5s  %9s  %9s  %s\n",
                 w, "left out", "clips", "frames", "flagged", "most flagged by");
   long long frames = 0, flagged = 0;
-  double worst = 0;
   for (const LeftOutSubject& l : f.left_out) {
     const FrameCheck& c = l.check;
     const auto most = std::max_element(c.violations.begin(), c.violations.end());
@@ -35,8 +34,9 @@ void AppendLeftOut(std::string* text, const ConstraintFit& f) {
                   WithThousands(c.frames).c_str(), share, by.c_str());
     frames += c.frames;
     flagged += c.flagged;
-    worst = std::max(worst, share);
   }
+  double worst = 0;
+  MostFlaggedLeftOut(f, &worst);
   StringAppendf(text, "%-*s  %5s  %9s  %8.3f%%  worst subject %.3f%%\n", w, "all", "",
                 WithThousands(frames).c_str(), frames ? 100.0 * flagged / frames : 0.0, worst);
 }
