@@ -166,8 +166,10 @@ void RequireLayer(const GraphConvImpl& conv, int64_t N, int64_t in, int64_t out,
 
 }  // namespace
 
-FusedGenerator::FusedGenerator(const GeneratorNetImpl& net, ProductPrecision precision)
+FusedGenerator::FusedGenerator(const GeneratorNetImpl& net, ProductPrecision precision,
+                               const std::vector<bool>& bf16_layers)
     : model_(std::make_unique<Model>()) {
+  size_t hidden_index = 0;  // over all parts, for bf16_layers
   const bool bf16 = precision == ProductPrecision::kBf16;
   Model& m = *model_;
   const GeneratorOptions& o = net.options();
@@ -195,12 +197,18 @@ FusedGenerator::FusedGenerator(const GeneratorNetImpl& net, ProductPrecision pre
     RequireShape(pn.input->conv->adjacency, {m.N, m.N}, "an input layer's adjacency");
     RequireShape(pn.input->conv->weight, {pn.input->conv->weight.size(0), m.H}, "an input layer");
     part.input = MakeLayer(*pn.input->conv, pn.input->norm ? pn.input->norm.get() : nullptr, true);
+    // Without a choice, bf16 in the later half of the part's hidden layers (see ProductPrecision).
+    const size_t hidden_layers = 2 * pn.blocks->size();
     for (const auto& module : *pn.blocks) {
       const auto* block = module->as<ResidualBlockImpl>();
       for (const GraphLayer& layer : {block->first, block->second}) {
         RequireLayer(*layer->conv, m.N, m.H, m.H, "a hidden layer");
-        part.hidden.push_back(
-            MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr, true, bf16));
+        const bool chosen = bf16_layers.empty()
+                                ? 2 * part.hidden.size() >= hidden_layers
+                                : hidden_index < bf16_layers.size() && bf16_layers[hidden_index];
+        ++hidden_index;
+        part.hidden.push_back(MakeLayer(*layer->conv, layer->norm ? layer->norm.get() : nullptr,
+                                        true, bf16 && chosen));
       }
     }
     RequireLayer(*pn.output, m.N, m.H, m.C, "an output layer");

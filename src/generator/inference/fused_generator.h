@@ -18,18 +18,25 @@ namespace motionfork {
 
 class GeneratorNetImpl;
 
-// The inputs of the hidden layers' products (H x H, nearly all of the work): float32, or bfloat16
-// with float32 sums (kernels/bf16_product.h: the AVX512-BF16 kernel where the CPU has it, a slow
-// portable one elsewhere). The input and output layers, the latent's product and the inverse DCT
-// stay float32 (small; the output layer in bf16 had doubled the futures' deviation), as do batch
-// norm, tanh and the DCT.
+// The inputs of the hidden layers' products (H x H, nearly all of the work): float32, or, with
+// kBf16, bfloat16 with float32 sums in the later half of each part's hidden layers
+// (kernels/bf16_product.h: the AVX512-BF16 kernel where the CPU has it, a slow portable one
+// elsewhere). The earlier half stays float32: a rounding there passes through every later layer,
+// and with all hidden layers in bf16 the shipped Bandai model's worst future moved 1.21 mm from
+// float32's on validation windows (every 10th training clip), with the later half 0.77 mm
+// (bench/bf16_layer_mask.cc), for 1.64x and 1.31x float32's speed. The input and output layers,
+// the latent's product and the inverse DCT stay float32 (small; the output layer in bf16 had
+// doubled the futures' deviation), as do batch norm, tanh and the DCT.
 enum class ProductPrecision { kFp32, kBf16 };
 
 class FusedGenerator {
  public:
   // Copies the network's eval-mode weights; the network may change or go afterwards.
+  // bf16_layers: with kBf16, which hidden layers (part 0's in order, then part 1's, ...) run in
+  // bf16 instead of the later half of each part's (for experiments: bench/bf16_layer_mask.cc).
   explicit FusedGenerator(const GeneratorNetImpl& net,
-                          ProductPrecision precision = ProductPrecision::kFp32);
+                          ProductPrecision precision = ProductPrecision::kFp32,
+                          const std::vector<bool>& bf16_layers = {});
   ~FusedGenerator();
   FusedGenerator(FusedGenerator&&) noexcept;
   FusedGenerator& operator=(FusedGenerator&&) noexcept;
