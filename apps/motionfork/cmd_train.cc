@@ -41,10 +41,7 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   const std::string config_dir = ConfigDir(g.config_dir);
   const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
   GeneratorTrainConfig cfg = LoadGeneratorTrainConfig(config_path);
-  if (run.epochs > 0) {
-    cfg.training.epochs = run.epochs;
-    cfg.training.lr_constant_epochs = std::min(cfg.training.lr_constant_epochs, run.epochs);
-  }
+  if (run.epochs > 0) OverrideEpochs(&cfg.training, run.epochs);
   if (IsRankZero())  // before the data: a refused folder costs nothing
     RecordTrainingConfig(run.out, config_path, run.split_file, run.epochs);
   // A prior the config names that is not there yet (a user's own dataset): trained first, where

@@ -1,6 +1,9 @@
 #include "generator/training/training_setup.h"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include "bundle/prior_bundle.h"
 #include "config/config_paths.h"
@@ -48,13 +51,21 @@ void RecordTrainingConfig(const std::string& out, const std::string& config_path
   if (epochs > 0) {
     header +=
         "# --epochs " + std::to_string(epochs) +
-        " on the command line replaced training.epochs (and capped lr_constant_epochs at it).\n";
+        " on the command line replaced training.epochs (and scaled lr_constant_epochs with it: "
+        "the same share of the run).\n";
   }
   if (trained && !fs::is_regular_file(recorded)) {
     header += "# Recorded when resuming: the config of the earlier epochs was not recorded.\n";
   }
   fs::create_directories(out);
   WriteFileAtomically(recorded.string(), header + kConfigMark + body);
+}
+
+void OverrideEpochs(TrainingOptions* t, int epochs) {
+  if (epochs <= 0) throw std::invalid_argument("--epochs must be positive");
+  const double share = t->epochs > 0 ? static_cast<double>(t->lr_constant_epochs) / t->epochs : 1;
+  t->lr_constant_epochs = std::clamp(static_cast<int>(std::lround(share * epochs)), 0, epochs);
+  t->epochs = epochs;
 }
 
 std::string FindPriorBundle(const std::string& prior, const std::string& config_dir) {

@@ -14,6 +14,11 @@ namespace motionfork {
 // The split a run trains on, as recorded: the split file's absolute path, or the protocol's own.
 std::string TrainingSplitName(const std::string& split_file);
 
+// `--epochs N`: the run's length replaced and its constant learning-rate phase scaled with it (the
+// same share of the run, rounded), so that a shortened or lengthened recipe still ends by decaying
+// to 0 (120 epochs with 60 constant, cut to 40: 20 constant, then 20 decaying).
+void OverrideEpochs(TrainingOptions* training, int epochs);
+
 // OUT/training.yaml holds a header (the config's path, the split, what an --epochs override
 // changed; epochs 0 = none) and the config file as read. A folder that has trained epochs is
 // refused (FormatError) for another config or split: resuming would mix two recipes in one model.
