@@ -544,9 +544,10 @@ PYBIND11_MODULE(motionfork, m) {
       py::arg("seed") = 0, py::arg("split") = "", py::arg("subset") = "test", py::arg("clips") = "",
       py::arg("fix") = "", py::arg("repair") = true, py::arg("threads") = 0,
       py::arg("config_dir") = "", py::arg("cache_dir") = "",
-      "Evaluates a predictor (a model bundle folder, or 'zero-velocity' / 'nearest-neighbours')\n"
-      "on a protocol's test windows, as `motionfork eval` does: APD, ADE, FDE, MMADE, MMFDE\n"
-      "(metres), overall and per action, and the validity figures, as a dict (the command's\n"
+      "Evaluates a predictor (a model bundle folder, or 'zero-velocity' / 'constant-velocity' /\n"
+      "'nearest-neighbours') on a protocol's test windows, as `motionfork eval` does: APD, ADE,\n"
+      "FDE, MMADE, MMFDE (metres), overall and per action, the validity figures and where the\n"
+      "body goes (the world root and foot skating), as a dict (the command's\n"
       "--json). data: the protocol's data folder; split: a split file; clips: a folder of\n"
       "motion files evaluated instead of data's test clips; fix: a part all samples share.");
 }

@@ -54,8 +54,15 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
       "whole pose vectors, K samples per history), overall and per action.");
   EvalExperimentOptions& e = o->experiment;
   cmd->add_option("--baseline", e.baseline,
-                  "Non-learned predictor: zero-velocity (every sample repeats the last pose) or "
+                  "Non-learned predictor: zero-velocity (every sample repeats the last pose), "
+                  "constant-velocity (the last pose carried on at the root's velocity) or "
                   "nearest-neighbours (K training futures, stride-5 windows, re-targeted)");
+  cmd->add_option("--velocity-frames", e.velocity.frames,
+                  "constant-velocity: frame steps its velocity is a mean over (default 0: the "
+                  "whole history)")
+      ->check(NonNegativeNumber);
+  cmd->add_flag("--velocity-turn", e.velocity.turn,
+                "constant-velocity: keep turning at the pelvis's turn rate too");
   cmd->add_option("--model", e.model, "Trained model bundle folder (model.yaml + generator.pt)");
   cmd->add_option("--protocol", e.protocol, "Protocol name (bandai, h36m, humaneva) or YAML path")
       ->required();

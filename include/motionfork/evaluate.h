@@ -11,7 +11,8 @@ namespace motionfork {
 
 // What Evaluate measures: a predictor on a protocol's test windows, as `motionfork eval` does.
 struct EvaluateOptions {
-  // A model bundle folder, or a baseline: "zero-velocity" or "nearest-neighbours".
+  // A model bundle folder, or a baseline: "zero-velocity", "constant-velocity" or
+  // "nearest-neighbours".
   std::string predictor;
   std::string protocol;         // protocol name (bandai, h36m, humaneva) or YAML path
   std::string data;             // the protocol's data folder (test clips and the training clips)

@@ -20,7 +20,7 @@ std::string EvaluateJson(const EvaluateOptions& options) {
   if (options.predictor.empty()) {
     throw std::invalid_argument(
         "EvaluateOptions::predictor: expected a model bundle folder or a baseline "
-        "(zero-velocity, nearest-neighbours), got nothing");
+        "(zero-velocity, constant-velocity, nearest-neighbours), got nothing");
   }
   (fs::is_directory(options.predictor) ? e.model : e.baseline) = options.predictor;
   e.protocol = options.protocol;

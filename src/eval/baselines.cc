@@ -22,11 +22,11 @@ void CheckLengths(const char* who, int t_his, int t_pred) {
 
 }  // namespace
 
-ZeroVelocityPredictor::ZeroVelocityPredictor(std::shared_ptr<const Skeleton> skeleton, int t_his,
-                                             int t_pred)
+LastPoseBaseline::LastPoseBaseline(const char* who, std::shared_ptr<const Skeleton> skeleton,
+                                   int t_his, int t_pred)
     : skeleton_(std::move(skeleton)), t_his_(t_his), t_pred_(t_pred) {
-  if (!skeleton_) throw std::invalid_argument("zero-velocity: expected a skeleton, got null");
-  CheckLengths("zero-velocity", t_his, t_pred);
+  if (!skeleton_) throw std::invalid_argument(std::string(who) + ": expected a skeleton, got null");
+  CheckLengths(who, t_his, t_pred);
 }
 
 void ZeroVelocityPredictor::DoPredict(const float* history, const PredictRequest& request,
@@ -35,6 +35,82 @@ void ZeroVelocityPredictor::DoPredict(const float* history, const PredictRequest
   const float* last = history + static_cast<size_t>(t_his_ - 1) * pose;
   for (int f = 0; f < request.num_samples * t_pred_; ++f) {
     std::copy(last, last + pose, futures + f * pose);
+  }
+}
+
+ConstantVelocityPredictor::ConstantVelocityPredictor(std::shared_ptr<const Skeleton> skeleton,
+                                                     int t_his, int t_pred, UpAxis up,
+                                                     const ConstantVelocityOptions& options)
+    : LastPoseBaseline("constant velocity", std::move(skeleton), t_his, t_pred),
+      up_(up),
+      frames_(options.frames == 0 ? t_his - 1 : options.frames),
+      turn_(options.turn) {
+  if (t_his < 2 || options.frames < 0 || options.frames > t_his - 1) {
+    throw std::invalid_argument(
+        "constant velocity: expected t_his >= 2 and 0 <= frames <= t_his - 1 (0: all), got "
+        "t_his " +
+        std::to_string(t_his) + ", frames " + std::to_string(options.frames));
+  }
+  if (up.axis < 0 || up.axis > 2 || (up.sign != 1 && up.sign != -1)) {
+    throw std::invalid_argument("constant velocity: expected an up axis 0-2 with sign +1 or -1");
+  }
+}
+
+std::string ConstantVelocityPredictor::description() const {
+  return std::string("the last pose carried on by the root's velocity") +
+         (turn_ ? " and the pelvis's turn rate" : "") + " over the history's last " +
+         std::to_string(frames_) + " frame step" + (frames_ == 1 ? "" : "s");
+}
+
+void ConstantVelocityPredictor::DoPredict(const float* history, const PredictRequest& request,
+                                          float* futures) {
+  const int J = skeleton_->num_joints();
+  const size_t pose = static_cast<size_t>(J) * 3;
+  const int a = (up_.axis + 1) % 3, b = (up_.axis + 2) % 3;  // the ground plane's axes
+  // The turn is measured and applied in the same (a, b) plane, so the up axis's sign does not
+  // matter.
+  const float* last = history + static_cast<size_t>(t_his_ - 1) * pose;
+  const float* first = history + static_cast<size_t>(t_his_ - 1 - frames_) * pose;
+  double velocity[3];
+  for (int c = 0; c < 3; ++c) velocity[c] = (static_cast<double>(last[c]) - first[c]) / frames_;
+  velocity[up_.axis] = 0;  // the height kept: a pelvis's bob carried on would sink or fly
+  // The turn of each step: the rotation in the (a, b) plane that best maps the earlier frame's
+  // pelvis (the joints hanging on the root) onto the later's (atan2 of the summed cross and dot
+  // products).
+  double turn = 0;
+  for (int t = t_his_ - frames_; turn_ && t < t_his_; ++t) {
+    const float* p = history + static_cast<size_t>(t - 1) * pose;
+    const float* q = history + static_cast<size_t>(t) * pose;
+    double cross = 0, dot = 0;
+    for (int j = 1; j < J; ++j) {
+      if (skeleton_->parent(j) != 0) continue;
+      const double pa = p[3 * j + a] - p[a], pb = p[3 * j + b] - p[b];
+      const double qa = q[3 * j + a] - q[a], qb = q[3 * j + b] - q[b];
+      cross += pa * qb - pb * qa;
+      dot += pa * qa + pb * qb;
+    }
+    turn += std::atan2(cross, dot) / frames_;
+  }
+  float* out = futures;
+  double root[3] = {last[0], last[1], last[2]};
+  for (int t = 1; t <= t_pred_; ++t, out += pose) {
+    const double c = std::cos(turn * t), s = std::sin(turn * t);
+    // The velocity turns with the body: step t moves by the mean velocity rotated t turns.
+    double step[3] = {velocity[0], velocity[1], velocity[2]};
+    step[a] = c * velocity[a] - s * velocity[b];
+    step[b] = s * velocity[a] + c * velocity[b];
+    for (int e = 0; e < 3; ++e) root[e] += step[e];
+    for (int j = 0; j < J; ++j) {
+      double rel[3];
+      for (int e = 0; e < 3; ++e) rel[e] = static_cast<double>(last[3 * j + e]) - last[e];
+      const double ra = c * rel[a] - s * rel[b], rb = s * rel[a] + c * rel[b];
+      rel[a] = ra;
+      rel[b] = rb;
+      for (int e = 0; e < 3; ++e) out[3 * j + e] = static_cast<float>(root[e] + rel[e]);
+    }
+  }
+  for (int k = 1; k < request.num_samples; ++k) {
+    std::copy(futures, futures + t_pred_ * pose, futures + static_cast<size_t>(k) * t_pred_ * pose);
   }
 }
 

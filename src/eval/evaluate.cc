@@ -25,13 +25,15 @@ struct Sums {
   double set_size = 0;
   double apd_varied = 0, apd_fixed = 0;
   std::vector<double> predicted, truth;  // [scorers] per-window means
+  RootFigures root;
 
   explicit Sums(size_t scorers) : predicted(scorers, 0.0), truth(scorers, 0.0) {}
 
   void Add(const WindowMetrics& m, int set_size, double varied, double fixed,
-           const std::vector<double>& pred, const std::vector<double>& gt) {
+           const std::vector<double>& pred, const std::vector<double>& gt, const RootFigures& r) {
     ++windows;
     metrics += m;
+    root += r;
     this->set_size += set_size;
     apd_varied += varied;
     apd_fixed += fixed;
@@ -52,6 +54,7 @@ struct Sums {
     f.mean_set_size = set_size / n;
     f.apd_varied = apd_varied / n;
     f.apd_fixed = apd_fixed / n;
+    f.root = root / n;
     for (size_t s = 0; s < predicted.size(); ++s) {
       f.predicted_scores.push_back(predicted[s] / n);
       f.truth_scores.push_back(truth[s] / n);
@@ -75,6 +78,37 @@ double MeanScore(const FrameScorer& scorer, const float* positions, int n,
     sum += s;
   }
   return sum / n;
+}
+
+// The root figures of one window: futures [K, T, J, 3] world; truth_positions [T, J, 3] scratch.
+RootFigures MeasureRoot(const RootOptions& o, const TestSet& ts, int i, const float* futures, int K,
+                        std::vector<float>* truth_positions) {
+  const int T = ts.t_pred, J = ts.num_joints();
+  RootFigures r;
+  const Displacement d = RootMinDisplacement(futures, K, T, J, ts.root_future(i));
+  r.ade = d.ade;
+  r.fde = d.fde;
+  r.final_spread = FinalRootSpread(futures, K, T, J, o.up);
+  if (o.feet.empty()) return r;
+  const double ground = GroundHeight(ts.history(i), ts.t_his, J, o.feet, o.up);
+  for (int k = 0; k < K; ++k) {
+    r.skating += FootSkating(futures + static_cast<size_t>(k) * T * J * 3, T, J, o.feet, o.up,
+                             ground, o.contact_height);
+  }
+  r.skating /= K;
+  // The ground truth in world coordinates: its root-relative pose vectors on its root.
+  const float* gt = ts.future(i);
+  const float* root = ts.root_future(i);
+  truth_positions->resize(static_cast<size_t>(T) * J * 3);
+  for (int t = 0; t < T; ++t) {
+    float* q = truth_positions->data() + static_cast<size_t>(t) * J * 3;
+    for (int a = 0; a < 3; ++a) q[a] = root[3 * t + a];
+    for (int e = 3; e < J * 3; ++e)
+      q[e] = gt[static_cast<size_t>(t) * (J - 1) * 3 + e - 3] + q[e % 3];
+  }
+  r.truth_skating =
+      FootSkating(truth_positions->data(), T, J, o.feet, o.up, ground, o.contact_height);
+  return r;
 }
 
 }  // namespace
@@ -129,6 +163,11 @@ EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& 
         (in_part[j] ? fixed_dims : varied_dims).push_back(3 * (j - 1) + a);
     }
   }
+  if (options.root.enabled && ts.root_futures.size() != static_cast<size_t>(N) * T * 3) {
+    throw std::invalid_argument("Evaluate: root figures need the test windows' root futures (" +
+                                std::to_string(N) + " x " + std::to_string(T) + " x 3), got " +
+                                std::to_string(ts.root_futures.size()) + " numbers");
+  }
   for (const FrameScorer& s : options.scorers) {
     if (!s.score) throw std::invalid_argument("Evaluate: scorer '" + s.name + "' has no function");
   }
@@ -146,12 +185,13 @@ EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& 
     WindowMetrics m;
     double varied = 0, fixed = 0;
     std::vector<double> pred_scores, truth_scores;
+    RootFigures root;
   };
   std::vector<Outcome> outcomes(N);
   std::atomic<int> done{0};
   std::mutex progress_lock;
   struct Scratch {
-    std::vector<float> history, futures, samples, relative, truth_positions;
+    std::vector<float> history, futures, samples, relative, truth_positions, truth_world;
     std::vector<const float*> truths;
     std::vector<Displacement> displacements;
     std::vector<double> scratch;
@@ -228,6 +268,9 @@ EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& 
     }
     m.mmade /= set_size;
     m.mmfde /= set_size;
+    if (options.root.enabled) {
+      o.root = MeasureRoot(options.root, ts, i, w.futures.data(), K, &w.truth_world);
+    }
     if (options.fixed_part >= 0) {
       if (!varied_dims.empty()) o.varied = ApdOfDims(w.samples.data(), K, T, D, varied_dims);
       if (!fixed_dims.empty()) o.fixed = ApdOfDims(w.samples.data(), K, T, D, fixed_dims);
@@ -270,8 +313,9 @@ EvalResult Evaluate(Predictor& predictor, const TestSet& ts, const EvalOptions& 
     const int set_size = ts.multimodal.set_size(i);
     result.per_window[i] = o.m;
     result.evaluated[i] = 1;
-    all.Add(o.m, set_size, o.varied, o.fixed, o.pred_scores, o.truth_scores);
-    per_action[ts.action[i]].Add(o.m, set_size, o.varied, o.fixed, o.pred_scores, o.truth_scores);
+    all.Add(o.m, set_size, o.varied, o.fixed, o.pred_scores, o.truth_scores, o.root);
+    per_action[ts.action[i]].Add(o.m, set_size, o.varied, o.fixed, o.pred_scores, o.truth_scores,
+                                 o.root);
   }
   if (all.windows == 0) {
     throw std::invalid_argument("Evaluate: every one of the " + std::to_string(N) +

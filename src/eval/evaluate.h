@@ -12,6 +12,7 @@
 
 #include "eval/metrics.h"
 #include "eval/predictor.h"
+#include "eval/root_motion.h"
 #include "eval/test_set.h"
 
 namespace motionfork {
@@ -24,6 +25,15 @@ struct FrameScorer {
   // otherwise (the mean is then the violation rate), or a negative log-likelihood in nats.
   // Scores must be finite (Evaluate throws otherwise).
   std::function<void(const float* positions, int n, double* scores)> score;
+};
+
+// Where the body goes (eval/root_motion.h): figures of the futures' world root and feet beside
+// the protocol's root-relative ones, which they do not change.
+struct RootOptions {
+  bool enabled = false;
+  UpAxis up;                     // the data's up axis
+  std::vector<int> feet;         // joints that touch the ground (the ankles); empty: no skating
+  double contact_height = 0.05;  // metres above the ground: the lowest foot of the history
 };
 
 struct EvalOptions {
@@ -39,6 +49,7 @@ struct EvalOptions {
   bool keep_singleton_sets = true;
   // Plausibility figures, each reported for predicted frames and for ground-truth frames.
   std::vector<FrameScorer> scorers;
+  RootOptions root;
   // Threads measuring windows at once (>= 1). The figures are the same for any number: each
   // window has its own seed and the sums are taken in window order. The predictor's Predict and
   // the scorers are then called from several threads at once (they must not change shared state).
@@ -58,6 +69,7 @@ struct Figures : WindowMetrics {
   double apd_fixed = 0;
   std::vector<double> predicted_scores;  // [scorers]: mean over all K x t_pred predicted frames
   std::vector<double> truth_scores;      // [scorers]: mean over the t_pred ground-truth frames
+  RootFigures root;                      // when EvalOptions::root.enabled
 };
 
 struct EvalResult {

@@ -78,6 +78,7 @@ TestSet BuildTestSet(const std::vector<const Clip*>& clips, const ProtocolOption
   const size_t n = ts.windows.size();
   ts.histories.resize(n * ts.t_his * J * 3);
   ts.futures.resize(n * ts.t_pred * ts.pose_dims);
+  ts.root_futures.resize(n * ts.t_pred * 3);
   ts.action.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const Window& w = ts.windows[i];
@@ -88,6 +89,7 @@ TestSet BuildTestSet(const std::vector<const Clip*>& clips, const ProtocolOption
     float* out = ts.futures.data() + i * ts.t_pred * ts.pose_dims;
     for (int t = 0; t < ts.t_pred; ++t) {
       const float* f = m.frame(w.start + ts.t_his + t);
+      std::copy(f, f + 3, ts.root_futures.begin() + (i * ts.t_pred + t) * 3);
       for (int j = 1; j < J; ++j) {
         for (int a = 0; a < 3; ++a) *out++ = f[3 * j + a] - f[a];
       }

@@ -26,6 +26,7 @@ struct TestSet {
   std::vector<int> action;                   // [N] index into actions
   std::vector<float> histories;              // [N, t_his, J, 3] metres, world coordinates
   std::vector<float> futures;                // [N, t_pred, D] metres, pose vectors
+  std::vector<float> root_futures;           // [N, t_pred, 3] metres, the root, world coordinates
   MultimodalSets multimodal;                 // empty until AttachMultimodalSets
 
   int num_windows() const { return static_cast<int>(windows.size()); }
@@ -35,6 +36,9 @@ struct TestSet {
   }
   const float* future(int i) const {
     return futures.data() + static_cast<size_t>(i) * t_pred * pose_dims;
+  }
+  const float* root_future(int i) const {
+    return root_futures.data() + static_cast<size_t>(i) * t_pred * 3;
   }
   // Last history pose as a pose vector: [D] metres (the key of the multimodal sets).
   std::vector<float> LastHistoryPoses() const;  // [N, D]

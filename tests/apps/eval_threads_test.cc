@@ -65,10 +65,15 @@ TEST_CASE("eval with 1 and 2 threads writes identical figures") {
       "-q eval --protocol bandai --data " + data + " --split " + SmallSplit(data, dir) + " -k 20 ";
   for (const std::string& predictor :
        {std::string("--model ") + MOTIONFORK_SOURCE_DIR + "/models/bandai",
-        std::string("--baseline nn")}) {
+        std::string("--baseline nn"), std::string("--baseline constant-velocity")}) {
     CheckSameFigures(common + predictor, dir);
     const nlohmann::json one = Figures(dir.file("1.json"));
     CHECK(one["windows"].get<int>() > 50);
+    // Where the body goes, beside the protocol's figures (Bandai is Y up; its ankles by the rig).
+    CHECK(one["root_figures"]["up"] == "y");
+    CHECK(one["root_figures"]["feet"] == "Foot_R, Foot_L");
+    CHECK(one["root"]["fde"].get<double>() > 0);
+    CHECK(one["root"]["foot_skating_gt"].get<double>() >= 0);
   }
 }
 

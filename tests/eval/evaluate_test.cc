@@ -296,3 +296,59 @@ TEST_CASE("bad input: K < 2, another skeleton, other lengths, missing multimodal
   bare.multimodal = MultimodalSets();
   CHECK_THROWS_WITH(Evaluate(zv, bare, o), Catch::Contains("AttachMultimodalSets"));
 }
+
+TEST_CASE("root figures: the world root and feet against a direct computation, same threads") {
+  const Fixture fx;
+  const TestSet& ts = fx.ts;
+  const int N = ts.num_windows(), T = ts.t_pred, J = 17, K = 3;
+  const std::vector<int> feet = {3, 6};  // the humanoid's ankles (H36M order)
+  ZeroVelocityPredictor zv(ts.skeleton, ts.t_his, T);
+  EvalOptions o;
+  o.num_samples = K;
+  o.root.enabled = true;
+  o.root.up = {1, 1};
+  o.root.feet = feet;
+  const EvalResult r = Evaluate(zv, ts, o);
+  // Directly from the clips: every sample keeps the last history root and pose.
+  double ade = 0, fde = 0, truth_skating = 0;
+  double moved = 0;
+  for (int i = 0; i < N; ++i) {
+    const Window& w = ts.windows[i];
+    const Motion& m = fx.clips[w.clip].motion;
+    const float* last = m.frame(w.start + ts.t_his - 1);
+    double sum = 0, d = 0;
+    for (int t = 0; t < T; ++t) {
+      const float* f = m.frame(w.start + ts.t_his + t);
+      d = std::sqrt(std::pow(f[0] - last[0], 2.0) + std::pow(f[1] - last[1], 2.0) +
+                    std::pow(f[2] - last[2], 2.0));
+      sum += d;
+    }
+    ade += sum / T;
+    fde += d;
+    moved += d;
+    const double ground = GroundHeight(m.frame(w.start), ts.t_his, J, feet, o.root.up);
+    truth_skating += FootSkating(m.frame(w.start + ts.t_his), T, J, feet, o.root.up, ground, 0.05);
+  }
+  REQUIRE(moved / N > 0.1);  // the fixture's bodies walk: a root that stays is wrong
+  CHECK(r.overall.root.ade == Approx(ade / N).epsilon(1e-6));
+  CHECK(r.overall.root.fde == Approx(fde / N).epsilon(1e-6));
+  CHECK(r.overall.root.final_spread == 0.0);
+  CHECK(r.overall.root.skating == 0.0);  // the feet stand still
+  CHECK(r.overall.root.truth_skating == Approx(truth_skating / N).epsilon(1e-5));
+  // The root-relative figures do not change with the root's on.
+  o.root.enabled = false;
+  const EvalResult plain = Evaluate(zv, ts, o);
+  CHECK(plain.overall.ade == r.overall.ade);
+  CHECK(plain.overall.fde == r.overall.fde);
+  CHECK(plain.overall.root.ade == 0.0);
+  // Threads do not change them.
+  o.root.enabled = true;
+  o.threads = 2;
+  const EvalResult two = Evaluate(zv, ts, o);
+  CHECK(two.overall.root.ade == r.overall.root.ade);
+  CHECK(two.overall.root.truth_skating == r.overall.root.truth_skating);
+  // A test set without root futures is refused when the root figures are asked for.
+  TestSet bare = ts;
+  bare.root_futures.clear();
+  CHECK_THROWS_WITH(Evaluate(zv, bare, o), Catch::Contains("root futures"));
+}

@@ -28,6 +28,7 @@ TestSet EveryNth(const TestSet& all, int stride) {
   out.action.clear();
   out.histories.clear();
   out.futures.clear();
+  out.root_futures.clear();
   const size_t h = static_cast<size_t>(all.t_his) * all.num_joints() * 3,
                f = static_cast<size_t>(all.t_pred) * all.pose_dims;
   for (int i = 0; i < all.num_windows(); i += stride) {
@@ -35,6 +36,8 @@ TestSet EveryNth(const TestSet& all, int stride) {
     out.action.push_back(all.action[i]);
     out.histories.insert(out.histories.end(), all.history(i), all.history(i) + h);
     out.futures.insert(out.futures.end(), all.future(i), all.future(i) + f);
+    out.root_futures.insert(out.root_futures.end(), all.root_future(i),
+                            all.root_future(i) + static_cast<size_t>(all.t_pred) * 3);
   }
   return out;
 }

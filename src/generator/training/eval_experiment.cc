@@ -10,12 +10,15 @@
 #include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
+#include "config/rig_config.h"
 #include "config/skeleton_config.h"
 #include "eval/baselines.h"
 #include "eval/clip_folder.h"
 #include "eval/test_set.h"
 #include "generator/inference/forecaster.h"
 #include "generator/training/generator_predictor.h"
+#include "rig/body_frame.h"
+#include "rig/joint_mapping.h"
 #include "torch_util/threads.h"
 #include "validity/pose_validator.h"
 
@@ -29,7 +32,7 @@ double Since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-const char* const kBaselines = "zero-velocity, nearest-neighbours";
+const char* const kBaselines = "zero-velocity, constant-velocity, nearest-neighbours";
 const char* const kNeedsData =
     "--baseline nearest-neighbours needs --data DIR: its training clips are the protocol's train "
     "split";
@@ -149,6 +152,15 @@ std::unique_ptr<Predictor> MakePredictor(const EvalExperimentOptions& o, const P
   if (CanonicalBaseline(o.baseline) == "zero-velocity") {
     return std::make_unique<ZeroVelocityPredictor>(skeleton, p.t_his, p.t_pred);
   }
+  if (CanonicalBaseline(o.baseline) == "constant-velocity") {
+    if (p.up.empty()) {
+      throw std::invalid_argument("--baseline constant-velocity needs the protocol's up axis: '" +
+                                  p.name + "' declares none (up: in its YAML)");
+    }
+    const auto [axis, sign] = ParseUpAxis(p.up);
+    return std::make_unique<ConstantVelocityPredictor>(skeleton, p.t_his, p.t_pred,
+                                                       UpAxis{axis, sign}, o.velocity);
+  }
   if (o.data.empty()) throw std::invalid_argument(kNeedsData);
   if (training.empty()) {
     throw std::invalid_argument(
@@ -209,6 +221,31 @@ void LoadTestClips(const EvalExperimentOptions& o, const ProtocolOptions& protoc
                                          protocol.name + "' needs"));
 }
 
+// Where the body goes: on when the protocol declares its up axis; skating needs the ankles, found
+// by the rig convention that names the skeleton's joints (configs/rigs/), else left out.
+RootOptions MakeRootOptions(const ProtocolOptions& p, const Skeleton& skeleton,
+                            const std::string& config_dir, std::string* feet_described) {
+  RootOptions root;
+  if (p.up.empty()) return root;
+  const auto [axis, sign] = ParseUpAxis(p.up);
+  root.enabled = true;
+  root.up = {axis, sign};
+  try {
+    const std::vector<RigConvention> conventions = LoadRigConventions(config_dir);
+    const NamedRoles named = RolesOfSkeleton(skeleton, conventions);
+    for (size_t j = 0; j < named.roles.size(); ++j) {
+      if (named.roles[j] == "left_ankle" || named.roles[j] == "right_ankle") {
+        root.feet.push_back(static_cast<int>(j));
+        *feet_described += (feet_described->empty() ? "" : ", ") + skeleton.joint_name(j);
+      }
+    }
+  } catch (const std::invalid_argument&) {
+    root.feet.clear();  // no convention names this skeleton: no skating figures
+    feet_described->clear();
+  }
+  return root;
+}
+
 }  // namespace
 
 std::vector<std::string> DifferencesFromPublished(const EvalExperimentOptions& o,
@@ -234,6 +271,7 @@ std::vector<std::string> FiguresLeading(const Figures& ours, const PublishedFigu
 
 std::string CanonicalBaseline(const std::string& name) {
   if (name == "zero-velocity" || name == "zero") return "zero-velocity";
+  if (name == "constant-velocity" || name == "cv") return "constant-velocity";
   if (name == "nearest-neighbours" || name == "nearest-neighbors" || name == "nn") {
     return "nearest-neighbours";
   }
@@ -279,6 +317,8 @@ EvalExperiment RunEvalExperiment(const EvalExperimentOptions& o) {
   eval.keep_singleton_sets = protocol.keep_singleton_sets;
   std::unique_ptr<PoseValidator> validator;
   eval.scorers = MakeScorers(o, protocol, ts.skeleton, &validator);
+  eval.root = MakeRootOptions(protocol, *ts.skeleton, o.config_dir, &x.feet);
+  x.root_figures = eval.root.enabled;
   const std::string stage = "evaluating " + predictor->name();
   eval.progress = [&o, &stage](int done, int total) {
     ReportProgress(o.progress, stage, double(done) / total);

@@ -11,6 +11,7 @@
 
 #include "core/progress.h"
 #include "dataset/protocol_options.h"
+#include "eval/baselines.h"
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
 #include "generator/inference/precision.h"
@@ -18,15 +19,17 @@
 namespace motionfork {
 
 struct EvalExperimentOptions {
-  std::string baseline;         // zero-velocity | nearest-neighbours (aliases: zero, nn, ...); or
-  std::string model;            // a generator bundle folder; exactly one of the two
-  std::string protocol;         // protocol name or YAML path (looked up in config_dir)
-  std::string data;             // the protocol's data folder ("" only with clips)
-  std::string subset = "test";  // clips of `data` evaluated: test, train or all
-  std::string split_file;       // overrides the protocol's split file; "" = the protocol's
-  std::string clips;            // evaluate this folder of motion files instead; "" = data
-  ClipConform conform_clips;    // how their joints reach the skeleton (eval/clip_folder.h)
-  int k = 50;                   // futures per history, >= 2
+  std::string baseline;              // zero-velocity | constant-velocity | nearest-neighbours
+                                     // (aliases: zero, cv, nn, ...); or
+  std::string model;                 // a generator bundle folder; exactly one of the two
+  std::string protocol;              // protocol name or YAML path (looked up in config_dir)
+  std::string data;                  // the protocol's data folder ("" only with clips)
+  std::string subset = "test";       // clips of `data` evaluated: test, train or all
+  std::string split_file;            // overrides the protocol's split file; "" = the protocol's
+  std::string clips;                 // evaluate this folder of motion files instead; "" = data
+  ClipConform conform_clips;         // how their joints reach the skeleton (eval/clip_folder.h)
+  int k = 50;                        // futures per history, >= 2
+  ConstantVelocityOptions velocity;  // constant-velocity (eval/baselines.h)
   uint64_t seed = 0;
   std::string fix;     // a part of the default partition shared by every sample; ""
   bool repair = true;  // learned predictor: the bundle's angle-range repair
@@ -54,6 +57,8 @@ struct EvalExperiment {
   bool overlaps_training = false;         // nearest-neighbours evaluated on training windows
   std::string scorers_described;          // "angles: PATH; prior: DIR", or ""
   std::vector<std::string> scorer_names;  // [result.overall.predicted_scores.size()]
+  bool root_figures = false;              // Figures::root measured (the protocol's up axis known)
+  std::string feet;                       // joints the skating figures watch ("" = none)
   EvalResult result;
   double seconds_loading = 0, seconds_multimodal = 0, seconds_predictor_setup = 0;
   double seconds_total = 0;

@@ -59,10 +59,14 @@ void AppendTable(std::string* s, const EvalExperiment& x) {
       AppendRow(s, x.actions[a].empty() ? "(unlabelled)" : x.actions[a], r.per_action[a], fixed);
     }
   }
-  const double measured = r.seconds_predicting + r.seconds_metrics + r.seconds_scoring;
   StringAppendf(
       s, "\nmetres; APD, ADE, FDE: whole pose vectors (%d numbers a frame), min over samples\n",
       x.pose_dims);
+}
+
+void AppendTime(std::string* s, const EvalExperiment& x) {
+  const EvalResult& r = x.result;
+  const double measured = r.seconds_predicting + r.seconds_metrics + r.seconds_scoring;
   StringAppendf(
       s,
       "time:       %s in all: loading %s, test windows + multimodal sets %s, predictor setup "
@@ -73,6 +77,34 @@ void AppendTable(std::string* s, const EvalExperiment& x) {
       Duration(r.seconds_predicting).c_str(),
       measured > 0 ? 100 * r.seconds_predicting / measured : 0.0,
       Duration(r.seconds_metrics).c_str(), measured > 0 ? 100 * r.seconds_metrics / measured : 0.0);
+}
+
+// Where the body goes: the futures' world root and feet, beside the root-relative table.
+void AppendRootTable(std::string* s, const EvalExperiment& x) {
+  if (!x.root_figures) return;
+  const EvalResult& r = x.result;
+  const bool feet = !x.feet.empty();
+  StringAppendf(s, "where the body goes (world root, up %s%s):\n%-24s %8s %8s %8s",
+                x.protocol.up.c_str(),
+                feet ? (("; foot skating of " + x.feet + ", m a frame").c_str()) : "", "action",
+                "root ADE", "root FDE", "spread");
+  if (feet) StringAppendf(s, " %8s %8s", "skating", "truth");
+  *s += "\n";
+  auto row = [&](const std::string& label, const Figures& f) {
+    StringAppendf(s, "%-24s %8.3f %8.3f %8.3f", label.c_str(), f.root.ade, f.root.fde,
+                  f.root.final_spread);
+    if (feet) StringAppendf(s, " %8.4f %8.4f", f.root.skating, f.root.truth_skating);
+    *s += "\n";
+  };
+  row("all", r.overall);
+  if (x.actions.size() > 1) {
+    for (size_t a = 0; a < x.actions.size(); ++a) {
+      if (r.per_action[a].windows > 0) row(x.actions[a], r.per_action[a]);
+    }
+  }
+  StringAppendf(s,
+                "metres; root ADE, FDE: the root's 3D distance, min over samples; spread: mean "
+                "distance between the samples' last roots on the ground\n");
 }
 
 }  // namespace
@@ -107,6 +139,8 @@ std::string EvalExperimentText(const EvalExperimentOptions& options, const EvalE
   std::string s;
   AppendHeader(&s, options, x);
   AppendTable(&s, x);
+  AppendRootTable(&s, x);
+  AppendTime(&s, x);
   AppendPublished(&s, options, x);
   return s;
 }
