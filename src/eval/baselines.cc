@@ -51,9 +51,7 @@ ConstantVelocityPredictor::ConstantVelocityPredictor(std::shared_ptr<const Skele
         "t_his " +
         std::to_string(t_his) + ", frames " + std::to_string(options.frames));
   }
-  if (up.axis < 0 || up.axis > 2 || (up.sign != 1 && up.sign != -1)) {
-    throw std::invalid_argument("constant velocity: expected an up axis 0-2 with sign +1 or -1");
-  }
+  GroundAxes(up);  // throws for a bad up axis
 }
 
 std::string ConstantVelocityPredictor::description() const {
@@ -66,7 +64,7 @@ void ConstantVelocityPredictor::DoPredict(const float* history, const PredictReq
                                           float* futures) {
   const int J = skeleton_->num_joints();
   const size_t pose = static_cast<size_t>(J) * 3;
-  const int a = (up_.axis + 1) % 3, b = (up_.axis + 2) % 3;  // the ground plane's axes
+  const auto [a, b] = GroundAxes(up_);
   // The turn is measured and applied in the same (a, b) plane, so the up axis's sign does not
   // matter.
   const float* last = history + static_cast<size_t>(t_his_ - 1) * pose;

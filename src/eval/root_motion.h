@@ -18,6 +18,10 @@ struct UpAxis {
   int sign = 1;  // +1 or -1
 };
 
+// The two axes of the ground plane (the ones that are not `up`'s). Throws std::invalid_argument
+// for an axis outside 0-2 or a sign other than +1 / -1.
+std::pair<int, int> GroundAxes(UpAxis up);
+
 // One window's (or a mean over windows') root figures, metres; skating in metres a frame.
 struct RootFigures {
   double ade = 0, fde = 0;   // RootMinDisplacement
