@@ -22,6 +22,8 @@ FORBIDDEN = {
     "motionfork_imputation": ["motionfork_config", "motionfork_bundle"],
     "motionfork_denoise": ["motionfork_config", "motionfork_bundle"],
     "motionfork_generator_model": ["motionfork_config", "motionfork_bundle"],
+    "motionfork_generator_trajectory": ["motionfork_config", "motionfork_bundle",
+                                        "motionfork_dataset", "motionfork_eval"],
     # The data modules below the config layer do not read YAML.
     "motionfork_core": ["motionfork_config"],
     "motionfork_io": ["motionfork_config"],
@@ -30,8 +32,8 @@ FORBIDDEN = {
     # The config layer includes no model.
     "motionfork_config": ["motionfork_flow", "motionfork_refine", "motionfork_imputation",
                           "motionfork_denoise",
-                          "motionfork_generator_model", "motionfork_generator_inference",
-                          "motionfork_bundle"],
+                          "motionfork_generator_model", "motionfork_generator_trajectory",
+                          "motionfork_generator_inference", "motionfork_bundle"],
     # Inference does not depend on evaluation or training, and takes options structs (its bundles
     # load through the bundle layer).
     "motionfork_generator_inference": ["motionfork_eval", "motionfork_generator_training",

@@ -4,6 +4,7 @@
 #include "bundle/generator_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
+#include "config/rig_config.h"
 #include "dataset/dataset.h"
 #include "experiment_common.h"
 #include "flags.h"
@@ -11,6 +12,7 @@
 #include "generator/training/training_manifest.h"
 #include "generator/training/training_setup.h"
 #include "generator/training/training_text.h"
+#include "generator/training/trajectory_training.h"
 #include "pipeline/prior_training.h"
 #include "validity/pose_validator.h"
 
@@ -33,6 +35,20 @@ TrainCallbacks EpochReports(EpochBars* bars) {
                     double seconds) { bars->PrintEpoch(epoch, seconds, terms, 4); };
   cb.message = PrintMessage;
   return cb;
+}
+
+// Where the root goes (issue 27): the trajectory network, after the generator's last epoch, once.
+void TrainTrajectoryStage(const TrajectoryTrainOptions& t, const ModelConfig& model,
+                          const Dataset& ds, const std::string& config_dir, const std::string& out,
+                          const GlobalOptions& g) {
+  if (TrajectoryTrained(out)) {
+    PrintText("trajectory: " + out + "/trajectory already trained\n");
+    return;
+  }
+  const std::vector<int> feet = AnkleJoints(*ds.skeleton.skeleton, config_dir);
+  EpochBars bars(t.epochs, !g.quiet);
+  const TrajectoryTrainSummary s = TrainTrajectory(t, model, ds, feet, out, EpochReports(&bars));
+  PrintText(TrajectoryDoneText(s, out));
 }
 
 void RunTrain(const TrainOptions& o, GlobalOptions& g) {
@@ -72,6 +88,8 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   const TrainSummary s =
       TrainGenerator(cfg, model, data, run.out, losses.hooks, EpochReports(&bars), run.stop_after);
   PrintText(TrainingDoneText(s, cfg.training.epochs, run.out));
+  if (cfg.trajectory && s.epochs_done == cfg.training.epochs && IsRankZero())
+    TrainTrajectoryStage(*cfg.trajectory, model, ds, config_dir, run.out, g);
 }
 
 }  // namespace
@@ -83,7 +101,8 @@ void AddTrainCommand(CLI::App& app, GlobalOptions& global) {
 Every epoch writes the bundle (OUT/model.yaml, OUT/generator.pt; OUT/constraints.yaml and
 OUT/prior/ when the config names them), a row of OUT/log.csv and a checkpoint; OUT/training.yaml
 records the config as read and the split. Running the same command again resumes where it
-stopped (--epochs may change; another config or split is refused).)");
+stopped (--epochs may change; another config or split is refused). A config with a `trajectory`
+section then trains the trajectory network into OUT/trajectory/ (once).)");
   cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")
       ->required();
   AddTrainingRunOptions(cmd, &o->run, "Output folder (bundle, log, checkpoint)");

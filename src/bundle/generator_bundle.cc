@@ -9,10 +9,12 @@
 #include "bundle/generator_net_bundle.h"
 #include "bundle/manifest.h"
 #include "bundle/torch_bundle.h"
+#include "bundle/trajectory_bundle.h"
 #include "config/constraint_config.h"
 #include "config/skeleton_yaml.h"
 #include "config/yaml_util.h"
 #include "core/error.h"
+#include "core/heading.h"
 
 namespace motionfork {
 
@@ -59,6 +61,19 @@ void ReadGeneratorKeys(const std::string& path, const YAML::Node& n, bool requir
   });
 }
 
+// model.yaml's body_frame: an up axis, absent for a network in the data's axes (bundles written
+// before it existed).
+void ReadBodyFrame(const std::string& path, const YAML::Node& n, GeneratorOptions* g) {
+  g->body_frame = GetOr<std::string>(path, n, "body_frame", "");
+  if (!g->body_frame.empty()) {
+    try {
+      ParseUp(g->body_frame);
+    } catch (const std::invalid_argument& e) {
+      Fail(path, n["body_frame"], std::string("generator.body_frame: ") + e.what());
+    }
+  }
+}
+
 void CheckTrainConfig(const GeneratorTrainConfig& c) {
   const TrainingOptions& t = c.training;
   const size_t parts = t.samples_per_part.size();
@@ -79,6 +94,19 @@ void CheckTrainConfig(const GeneratorTrainConfig& c) {
        "training.lr_constant_epochs must be in 0..epochs");
   rule(t.learning_rate > 0, "training.learning_rate must be > 0");
   rule(t.grad_clip > 0, "training.grad_clip must be > 0");
+  if (const auto& r = c.trajectory) {
+    rule(c.body_frame,
+         "trajectory needs generator.body_frame: true (it works in the body's frame)");
+    rule(r->n_in >= 0 && r->n_out >= 1 && r->hidden >= 1 && r->layers >= 1,
+         "trajectory.n_in must be >= 0, n_out, hidden and layers >= 1");
+    rule(r->epochs >= 1 && r->lr_constant_epochs >= 0 && r->lr_constant_epochs <= r->epochs,
+         "trajectory.epochs must be >= 1 and lr_constant_epochs in 0..epochs");
+    rule(r->batch >= 1 && r->window_stride >= 1 && r->validation_every >= 0,
+         "trajectory.batch and window_stride must be >= 1, validation_every >= 0");
+    rule(r->learning_rate > 0 && r->contact_height > 0 && r->final_weight >= 0 &&
+             r->skating_weight >= 0,
+         "trajectory.learning_rate and contact_height must be > 0, the weights >= 0");
+  }
   rule(t.window_stride >= 1, "training.window_stride must be >= 1");
   rule(t.prior_frame_step >= 1, "training.prior_frame_step must be >= 1");
   rule(t.threads >= 1, "training.threads must be >= 1");
@@ -98,6 +126,7 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
     c.constraints = GetOr<std::string>(path, root, "constraints", "");
     if (const YAML::Node g = root["generator"]) {
       ReadGeneratorKeys(path, g, /*required=*/false, &c.generator);
+      c.body_frame = GetOr<bool>(path, g, "body_frame", false);
     }
     if (const YAML::Node l = root["losses"]) {
       LossWeights& w = c.losses;
@@ -135,6 +164,24 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
       t.threads = GetOr<int>(path, n, "threads", t.threads);
       t.sync_batch_norm = GetOr<bool>(path, n, "sync_batch_norm", t.sync_batch_norm);
     }
+    if (const YAML::Node n = root["trajectory"]) {
+      TrajectoryTrainOptions o;
+      o.n_in = GetOr<int>(path, n, "n_in", o.n_in);
+      o.n_out = GetOr<int>(path, n, "n_out", o.n_out);
+      o.hidden = GetOr<int>(path, n, "hidden", o.hidden);
+      o.layers = GetOr<int>(path, n, "layers", o.layers);
+      o.epochs = GetOr<int>(path, n, "epochs", o.epochs);
+      o.lr_constant_epochs = GetOr<int>(path, n, "lr_constant_epochs", o.lr_constant_epochs);
+      o.batch = GetOr<int>(path, n, "batch", o.batch);
+      o.window_stride = GetOr<int>(path, n, "window_stride", o.window_stride);
+      o.learning_rate = GetOr<double>(path, n, "learning_rate", o.learning_rate);
+      o.validation_every = GetOr<int>(path, n, "validation_every", o.validation_every);
+      o.final_weight = GetOr<double>(path, n, "final_weight", o.final_weight);
+      o.skating_weight = GetOr<double>(path, n, "skating_weight", o.skating_weight);
+      o.contact_height = GetOr<double>(path, n, "contact_height", o.contact_height);
+      o.seed = GetOr<uint64_t>(path, n, "seed", o.seed);
+      c.trajectory = o;
+    }
     CheckTrainConfig(c);
     return c;
   });
@@ -159,6 +206,7 @@ ModelConfig LoadGeneratorManifest(const std::string& path, BundleChecksums* chec
     if (!n) Fail(path, root, "missing mapping 'generator'");
     g.num_nodes = Get<int>(path, n, "num_nodes");
     ReadGeneratorKeys(path, n, /*required=*/true, &g);
+    ReadBodyFrame(path, n, &g);
     ValidateGeneratorOptions(g);
     c.skeleton = ParseSkeletonSpec(path, root);
     for (auto& [k, v] : ParseManifestInfo(root)) c.info[k] = std::move(v);
@@ -179,6 +227,7 @@ std::string FormatGeneratorManifest(const ModelConfig& c, const BundleChecksums&
   ForEachGeneratorKey(g, [&out](const char* key, const auto& value) {
     out << YAML::Key << key << YAML::Value << value;
   });
+  if (!g.body_frame.empty()) out << YAML::Key << "body_frame" << YAML::Value << g.body_frame;
   out << YAML::EndMap;
   EmitSkeletonSpec(out, c.skeleton);
   EmitManifestChecksums(out, checksums);
@@ -237,7 +286,18 @@ Forecaster LoadForecaster(const std::string& dir) {
   std::optional<ConstraintSetSpec> constraints;
   const fs::path file = fs::path(dir) / "constraints.yaml";
   if (fs::is_regular_file(file)) constraints = LoadConstraintConfig(file.string());
-  return Forecaster(std::move(config), net.ptr(), std::move(constraints));
+  Forecaster forecaster(std::move(config), net.ptr(), std::move(constraints));
+  const fs::path trajectory = fs::path(dir) / kTrajectoryFolder;
+  if (fs::is_directory(trajectory)) {
+    TrajectoryManifest m;
+    TrajectoryNet t = LoadTrajectoryBundle(trajectory.string(), &m);
+    try {
+      forecaster.AttachTrajectory(t.ptr());
+    } catch (const std::invalid_argument& e) {
+      throw FormatError(FormatMessage((trajectory / "trajectory.yaml").string(), "", e.what()));
+    }
+  }
+  return forecaster;
 }
 
 }  // namespace motionfork

@@ -22,7 +22,8 @@ std::string FormatGeneratorManifest(const ModelConfig& config,
                                     const BundleChecksums& checksums = {});
 
 // The bundle as a Forecaster, its constraints.yaml (when there is one) repairing predictions (was
-// Forecaster::Load). Throws FormatError naming the missing or malformed file.
+// Forecaster::Load) and its trajectory/ (when there is one, bundle/trajectory_bundle.h) moving
+// the futures' root. Throws FormatError naming the missing or malformed file.
 Forecaster LoadForecaster(const std::string& dir);
 
 }  // namespace motionfork

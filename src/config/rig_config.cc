@@ -4,6 +4,7 @@
 
 #include "config/config_paths.h"
 #include "config/yaml_util.h"
+#include "rig/joint_mapping.h"
 
 namespace motionfork {
 namespace {
@@ -87,6 +88,19 @@ std::vector<RigConvention> LoadRigConventions(const std::string& config_dir) {
     out.push_back(LoadRigConvention(ResolveConfigPath(config_dir, "rigs", name)));
   }
   return out;
+}
+
+std::vector<int> AnkleJoints(const Skeleton& skeleton, const std::string& config_dir) {
+  try {
+    const NamedRoles named = RolesOfSkeleton(skeleton, LoadRigConventions(config_dir));
+    std::vector<int> feet;
+    for (size_t j = 0; j < named.roles.size(); ++j)
+      if (named.roles[j] == "left_ankle" || named.roles[j] == "right_ankle")
+        feet.push_back(static_cast<int>(j));
+    return feet;
+  } catch (const std::invalid_argument&) {
+    return {};  // no convention names this skeleton
+  }
 }
 
 }  // namespace motionfork

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/skeleton.h"
 #include "rig/rig_convention.h"
 
 namespace motionfork {
@@ -16,5 +17,9 @@ RigConvention LoadRigConvention(const std::string& path);
 // Every shipped convention (config_dir/rigs/*.yaml), sorted by name; empty when the folder is
 // absent.
 std::vector<RigConvention> LoadRigConventions(const std::string& config_dir);
+
+// The skeleton's ankles: the joints the shipped convention that names its joints gives the roles
+// left_ankle and right_ankle (indices, in joint order); empty when no convention names it.
+std::vector<int> AnkleJoints(const Skeleton& skeleton, const std::string& config_dir);
 
 }  // namespace motionfork

@@ -23,14 +23,6 @@ void RequireFeet(const std::vector<int>& feet, int J) {
 
 }  // namespace
 
-std::pair<int, int> GroundAxes(UpAxis up) {
-  if (up.axis < 0 || up.axis > 2 || (up.sign != 1 && up.sign != -1)) {
-    throw std::invalid_argument("root motion: up axis " + std::to_string(up.axis) + " sign " +
-                                std::to_string(up.sign) + ", expected axis 0-2 and sign +1 or -1");
-  }
-  return {(up.axis + 1) % 3, (up.axis + 2) % 3};
-}
-
 RootFigures& RootFigures::operator+=(const RootFigures& o) {
   ade += o.ade;
   fde += o.fde;

@@ -9,18 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "core/heading.h"  // UpAxis, GroundAxes
 #include "eval/metrics.h"
 
 namespace motionfork {
-
-struct UpAxis {
-  int axis = 1;  // 0 x, 1 y, 2 z
-  int sign = 1;  // +1 or -1
-};
-
-// The two axes of the ground plane (the ones that are not `up`'s). Throws std::invalid_argument
-// for an axis outside 0-2 or a sign other than +1 / -1.
-std::pair<int, int> GroundAxes(UpAxis up);
 
 // One window's (or a mean over windows') root figures, metres; skating in metres a frame.
 struct RootFigures {

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "core/heading.h"
+
 namespace motionfork {
 namespace {
 
@@ -223,14 +225,8 @@ std::optional<std::pair<double, double>> KneeEvidence(const Frames& f, const Rol
 }  // namespace
 
 std::pair<int, int> ParseUpAxis(const std::string& up) {
-  std::string u;
-  for (char ch : up) u.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(ch))));
-  const bool minus = !u.empty() && u[0] == '-';
-  const std::string axis = !u.empty() && (minus || u[0] == '+') ? u.substr(1) : u;
-  if (axis != "x" && axis != "y" && axis != "z") {
-    throw std::invalid_argument("up axis '" + up + "': expected auto, y, z, x, -y, -z or -x");
-  }
-  return {axis[0] - 'x', minus ? -1 : 1};
+  const UpAxis u = ParseUp(up);
+  return {u.axis, u.sign};
 }
 
 double ParseLengthUnit(const std::string& unit) {

@@ -12,13 +12,15 @@
 
 #include "bodyparts/part_plan.h"
 #include "constraints/constraint_spec.h"
+#include "core/heading.h"
 #include "core/motion.h"
 #include "generator/inference/precision.h"
 #include "generator/model/generator_options.h"
 
 namespace motionfork {
 
-class GeneratorNetImpl;  // generator/model/generator_net.h (LibTorch)
+class GeneratorNetImpl;   // generator/model/generator_net.h (LibTorch)
+class TrajectoryNetImpl;  // generator/trajectory/trajectory_net.h (LibTorch)
 
 // Futures per history at most: every future is kept in memory (with its pose checks, ~12 KB each
 // for the Bandai model), so K is bounded before anything is allocated.
@@ -42,9 +44,11 @@ struct Forecast {
   int k = 0, t_his = 0, t_pred = 0, joints = 0;
   double fps = 0;
   std::vector<float> history;  // [t_his, J, 3] the input frames, metres
-  // [K, t_pred, J, 3] metres; the model predicts root-relative poses, placed here at the last
-  // history frame's root position.
+  // [K, t_pred, J, 3] metres, in the history's frame. With a trajectory network (moves_root) the
+  // root moves as each future's trajectory says; without one every future's root stays at the
+  // last history frame's root position (the model predicts root-relative poses).
   std::vector<float> futures;
+  bool root_moves = false;
 };
 
 class Forecaster {
@@ -54,8 +58,8 @@ class Forecaster {
   // repair). Predictions run the fused generator (inference/fused_generator.h) where the AVX-512
   // backend runs; with $MOTIONFORK_FAST_GENERATOR=0 at construction they run the LibTorch network
   // instead (=1: the fused generator on any backend; same futures within 1e-5 m). Throws
-  // std::invalid_argument for a null net and what Skeleton::Build, MakePartPlan and
-  // ConstraintSet::Build throw.
+  // std::invalid_argument for a null net, a body frame on a skeleton without left/right joints,
+  // and what ParseUp, Skeleton::Build, MakePartPlan and ConstraintSet::Build throw.
   Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net,
              std::optional<ConstraintSetSpec> constraints = std::nullopt);
   ~Forecaster();
@@ -70,6 +74,17 @@ class Forecaster {
   Precision precision() const;  // as resolved: kFp32 or kBf16
   const std::shared_ptr<const Skeleton>& skeleton() const;
   const PartPlan& parts() const;
+  // The up axis of a network that predicts in the body's own frame (GeneratorOptions::body_frame,
+  // issue 27): each history is turned about it so that its last frame's heading (core/heading.h:
+  // the line between the skeleton's hips) is the same, and its futures are turned back, so that
+  // turning a history turns its futures alike. None: the data's axes.
+  std::optional<UpAxis> body_frame() const;
+  // Where the root goes (issue 27): a trajectory network (bundle's trajectory/) run on each
+  // future in the body's frame, so that PredictWorld's futures move. Throws std::invalid_argument
+  // when the generator is not in the body's frame, or the network's frames, nodes or up axis
+  // differ from the generator's. Not thread-safe: set it before predicting.
+  void AttachTrajectory(std::shared_ptr<TrajectoryNetImpl> trajectory);
+  bool moves_root() const;
   // True when constructed with constraints (a bundle's constraints.yaml), so predictions can be
   // repaired to their ranges.
   bool repairs() const;
@@ -85,8 +100,8 @@ class Forecaster {
                                          const ForecastRequest& request) const;
 
   // One history in world coordinates, [t_his, J, 3] metres -> futures [K, t_pred, J, 3] metres,
-  // the root held at the history's last root position. No skeleton or frame-rate checks: callers
-  // (Predict, the evaluation's Predictor) have done them.
+  // the root moving when moves_root(), else held at the history's last root position. No skeleton
+  // or frame-rate checks: callers (Predict, the evaluation's Predictor) have done them.
   std::vector<float> PredictWorld(const float* history, const ForecastRequest& request) const;
 
   struct Impl;

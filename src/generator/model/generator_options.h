@@ -22,6 +22,10 @@ struct GeneratorOptions {
   bool batch_norm = true;             // batch normalisation after each inner graph-conv (GSPS code)
   double dropout = 0.0;               // dropout after each inner activation (training only)
   std::string partition = "default";  // the skeleton's body-part partition, in prediction order
+  // "": the network sees poses in the data's axes. An up axis ("y", "z"): it sees each window in
+  // the body's own frame, turned about that axis so that its last history frame faces one way
+  // (core/heading.h; issue 27), and what it predicts is turned back.
+  std::string body_frame;
 
   int num_frames() const { return t_his + t_pred; }
   int coeff_features() const { return 3 * n_pre; }  // per node: x, y, z of each coefficient

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,28 @@ struct TrainingOptions {
   bool sync_batch_norm = true;
 };
 
+// The trajectory network's training (configs/models/*.yaml, section `trajectory`; issue 27): after
+// the generator, on the same training windows in the body's frame, their true poses in, their
+// root's motion out.
+struct TrajectoryTrainOptions {
+  int n_in = 0;  // DCT coefficients of the poses; 0: the generator's n_pre
+  int n_out = 10;
+  int hidden = 512;
+  int layers = 3;
+  int epochs = 30;
+  int lr_constant_epochs = 15;  // then linear decay to 0 at `epochs`
+  int batch = 256;              // windows a step
+  int window_stride = 5;        // every 5th start in every clip
+  double learning_rate = 1e-3;
+  // Every n-th training clip (n - 1, 2n - 1, ...) is held out and picks the epoch kept (the one
+  // with the lowest final root error there); 0: none held out, the last epoch kept.
+  int validation_every = 10;
+  double final_weight = 1;       // the last frame's root distance, beside the mean over frames
+  double skating_weight = 1;     // feet on the ground that slide (needs the ankles: rig roles)
+  double contact_height = 0.05;  // metres above the window's lowest ankle that count as contact
+  uint64_t seed = 0;
+};
+
 struct GeneratorTrainConfig {
   std::string path;
   std::string name;
@@ -54,9 +77,13 @@ struct GeneratorTrainConfig {
   std::string prior;           // prior bundle folder ("" = no prior loss)
   std::string constraints;     // constraints config name or path ("" = no angle loss)
   GeneratorOptions generator;  // t_his, t_pred, num_nodes come from the protocol
+  // generator.body_frame: true: the network learns in the body's frame about the protocol's up
+  // axis (GeneratorOptions::body_frame).
+  bool body_frame = false;
   LossWeights losses;
   MultimodalOptions multimodal;
   TrainingOptions training;
+  std::optional<TrajectoryTrainOptions> trajectory;  // needs body_frame
 };
 
 }  // namespace motionfork

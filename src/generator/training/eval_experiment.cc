@@ -230,19 +230,9 @@ RootOptions MakeRootOptions(const ProtocolOptions& p, const Skeleton& skeleton,
   const auto [axis, sign] = ParseUpAxis(p.up);
   root.enabled = true;
   root.up = {axis, sign};
-  try {
-    const std::vector<RigConvention> conventions = LoadRigConventions(config_dir);
-    const NamedRoles named = RolesOfSkeleton(skeleton, conventions);
-    for (size_t j = 0; j < named.roles.size(); ++j) {
-      if (named.roles[j] == "left_ankle" || named.roles[j] == "right_ankle") {
-        root.feet.push_back(static_cast<int>(j));
-        *feet_described += (feet_described->empty() ? "" : ", ") + skeleton.joint_name(j);
-      }
-    }
-  } catch (const std::invalid_argument&) {
-    root.feet.clear();  // no convention names this skeleton: no skating figures
-    feet_described->clear();
-  }
+  root.feet = AnkleJoints(skeleton, config_dir);
+  for (int j : root.feet)
+    *feet_described += (feet_described->empty() ? "" : ", ") + skeleton.joint_name(j);
   return root;
 }
 

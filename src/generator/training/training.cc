@@ -4,11 +4,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 
 #include "bodyparts/part_plan.h"
 #include "bundle/generator_net_bundle.h"
+#include "core/heading.h"
 #include "generator/model/fused_ops.h"
 #include "generator/model/latents.h"
 #include "launch/worker_place.h"
@@ -104,6 +106,14 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   if (workers.distributed() && t.sync_batch_norm) net->set_batch_sync(&sync);
   std::vector<int64_t> node_parents(N);
   for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
+  // In the body's frame: each window (and its pseudo futures) turned as inference turns a history.
+  std::optional<UpAxis> body_up;
+  HeadingJoints heading_nodes;
+  if (!model.generator.body_frame.empty()) {
+    body_up = ParseUp(model.generator.body_frame);
+    const HeadingJoints j = FindHeadingJoints(skeleton).value();
+    heading_nodes = {j.left - 1, j.right - 1};
+  }
   const int iterations = t.windows_per_epoch / Bh;
   const auto start = std::chrono::steady_clock::now();
 
@@ -140,6 +150,13 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
               dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
               pseudo.data_ptr<float>() + (static_cast<size_t>(b) * M + m) * data.t_pred * N * 3);
           mask[b][m] = 1.0f;
+        }
+        if (body_up) {
+          const double turn =
+              -WindowHeading(dst, data.t_his, N, data.t_his - 1, heading_nodes, *body_up);
+          RotateAboutUp(dst, static_cast<size_t>(T) * N, turn, *body_up);
+          RotateAboutUp(pseudo.data_ptr<float>() + static_cast<size_t>(b) * M * data.t_pred * N * 3,
+                        static_cast<size_t>(M) * data.t_pred * N, turn, *body_up);
         }
       }
       std::vector<torch::Tensor> z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);

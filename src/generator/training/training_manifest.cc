@@ -1,5 +1,8 @@
 #include "generator/training/training_manifest.h"
 
+#include <stdexcept>
+
+#include "core/heading.h"
 #include "generator/training/training_setup.h"
 
 namespace motionfork {
@@ -13,6 +16,17 @@ ModelConfig TrainingModelConfig(const GeneratorTrainConfig& config, const Protoc
   model.generator.t_his = protocol.t_his;
   model.generator.t_pred = protocol.t_pred;
   model.generator.num_nodes = skeleton.num_joints() - 1;
+  if (config.body_frame) {
+    if (protocol.up.empty()) {
+      throw std::invalid_argument("generator.body_frame needs the protocol '" + protocol.name +
+                                  "' to declare its up axis (up: y)");
+    }
+    if (!FindHeadingJoints(skeleton)) {
+      throw std::invalid_argument("generator.body_frame needs the skeleton '" + skeleton.name() +
+                                  "' to name left/right joints (its heading)");
+    }
+    model.generator.body_frame = protocol.up;
+  }
   model.skeleton = skeleton.ToSpec();
   model.info["config"] = config.name;
   model.info["seed"] = std::to_string(config.training.seed);
