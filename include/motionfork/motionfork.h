@@ -109,9 +109,11 @@ struct Futures {
   int joints = 0;          // joints per frame (Model::joint_names().size())
   double fps = 0;          // Hz
   int history_frames = 0;  // frames of `history` (Model::history_frames())
-  // [k, frames, joints, 3] metres, in the history's world frame. The model predicts poses
-  // relative to the root and keeps the root where the history ended.
+  // [k, frames, joints, 3] metres, in the history's world frame. A model with a trajectory
+  // network (its bundle's trajectory/) moves each future's root (root_moves); otherwise it
+  // predicts poses relative to the root and keeps the root where the history ended.
   std::vector<float> positions;
+  bool root_moves = false;
   // [history_frames, joints, 3] metres: the history frames the futures continue (after any
   // repair), in the same frame.
   std::vector<float> history;

@@ -249,6 +249,7 @@ Futures Model::Predict(const std::vector<float>& history, const PredictOptions& 
   out.joints = p.joints();
   out.fps = p.fps;
   out.history_frames = p.t_his;
+  out.root_moves = p.root_moves;
   const size_t frame = static_cast<size_t>(p.joints()) * 3;
   out.history.assign(p.positions.begin(), p.positions.begin() + p.t_his * frame);
   out.positions.reserve(static_cast<size_t>(p.k) * p.t_pred * frame);

@@ -119,6 +119,7 @@ std::string WritePrediction(const std::string& out, const Prediction& p) {
   }
   j["parts"] = parts;
   j["fixed_parts"] = p.fixed_parts;
+  j["root_moves"] = p.root_moves;
   j["array"] = std::filesystem::path(base + ".npy").filename().string();
   j["shape"] = {p.k, T, J, 3};
   if (p.prior_bound) j["prior_nll_bound"] = OptionalNumber(p.prior_bound);
@@ -240,6 +241,7 @@ Prediction ParsePrediction(const json& j, const std::string& base, const std::st
     throw FormatError(FormatMessage(json_path, "skeleton", e.what()));
   }
   p.fixed_parts = j.value("fixed_parts", std::vector<std::string>{});
+  p.root_moves = j.value("root_moves", false);
   if (j.contains("history_validity"))
     p.history_validity = ValidityFromJson(j["history_validity"], json_path);
   p.prior_bound = OptionalNumberFromJson(j, "prior_nll_bound", json_path);

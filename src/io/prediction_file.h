@@ -4,11 +4,12 @@
 //             its future (t_pred frames), T = t_his + t_pred.
 //   OUT.json  the description: model, protocol, history file, start frame, K, seed, fps, t_his,
 //             t_pred, the skeleton (joint names, parent indices, left/right pairs, body parts in
-//             prediction order), the fixed parts, the array's file name and shape, and one entry
-//             per sample with its validity: valid, the judges it fails ("failed": angle_ranges,
-//             prior_nll, history), its violating frames and mean prior NLL when the bundle has
-//             them; the prior's bound (prior_nll_bound) and what was checked of the history
-//             (history_validity, history_check: the HG-VAE window score and the doubts).
+//             prediction order), the fixed parts, whether the futures' root moves (root_moves:
+//             the array holds world positions either way), the array's file name and shape, and one
+//             entry per sample with its validity: valid, the judges it fails ("failed":
+//             angle_ranges, prior_nll, history), its violating frames and mean prior NLL when the
+//             bundle has them; the prior's bound (prior_nll_bound) and what was checked of the
+//             history (history_validity, history_check: the HG-VAE window score and the doubts).
 #pragma once
 
 #include <memory>
@@ -78,6 +79,9 @@ struct Prediction {
   double fps = 0;
   std::shared_ptr<const Skeleton> skeleton;  // names, parents, left/right pairs, parts ("default")
   std::vector<std::string> fixed_parts;
+  // World positions either way; true: each future's root moves as the model's trajectory says
+  // (a bundle with trajectory/), false: it stays at the last history frame's root.
+  bool root_moves = false;
   std::vector<float> positions;         // [K, t_his + t_pred, J, 3]
   std::vector<SampleValidity> samples;  // K entries, or empty when validity was not computed
   std::optional<SampleValidity> history_validity;  // the same figures for the history frames

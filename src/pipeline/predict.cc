@@ -136,6 +136,7 @@ Prediction AssemblePrediction(const Forecaster& model, const std::string& model_
   p.prior_bound = judge.prior_bound();
   p.skeleton = model.skeleton();
   p.fixed_parts = request.fixed_parts;
+  p.root_moves = model.moves_root();
   p.positions.reserve(static_cast<size_t>(p.k) * (history.size() + future_size));
   for (int k = 0; k < p.k; ++k) {
     p.positions.insert(p.positions.end(), history.begin(), history.end());

@@ -87,6 +87,7 @@ class StripPainter {
     first_future_column_ = static_cast<int>(layout.history_frames.size());
     dots_ = std::none_of(scene.drawn.begin(), scene.drawn.end(), [](char d) { return d != 0; });
     FitScale();
+    FitTrack();
   }
 
   void Paint() {
@@ -140,6 +141,54 @@ class StripPainter {
     const double head = scene_.head >= 0 ? kHeadRadius : 0;  // the circle reaches above the joint
     const double height_m = std::max(0.1, top_ + head - ground_);
     scale_ = (o_.row_height - 2.0 * kRowPad) / height_m;
+  }
+
+  // The ground tracks' scale: every drawn sample's pelvis over all frames fits its square, which
+  // spans at least 1 m.
+  void FitTrack() {
+    track_reach_ = 0.5;
+    for (int k : layout_.samples) {
+      for (int t = 0; t < scene_.frames(); ++t) {
+        const float* p = scene_.pose(k, t) + 3 * scene_.pelvis;
+        track_reach_ = std::max({track_reach_, std::abs(double(p[0])), std::abs(double(p[2]))});
+      }
+    }
+    track_reach_ *= 1.1;
+  }
+
+  // Row `row`'s top-down square: a grid, the history's track grey, each sample's future track.
+  void PaintTrack(int row, const std::vector<int>& samples, double alpha) {
+    if (layout_.track_left == 0) return;
+    const double side = o_.row_height - 2.0 * kRowPad;
+    const double x0 = layout_.track_left, y0 = RowTop(row) + kRowPad, half = side / 2;
+    const double s = half / track_reach_;
+    // Seen from above with the body facing up the page at the last history frame: its left is
+    // the page's left.
+    auto X = [&](const float* p) { return x0 + half - s * p[0]; };
+    auto Y = [&](const float* p) { return y0 + half - s * p[2]; };
+    SetColour(cr_, o_.palette.background);
+    cairo_rectangle(cr_, x0, y0, side, side);
+    cairo_fill(cr_);
+    for (double g = -std::floor(track_reach_ / 0.5) * 0.5; g <= track_reach_; g += 0.5) {
+      Line(x0 + half + s * g, y0, x0 + half + s * g, y0 + side, o_.palette.separator, false, 1, 1);
+      Line(x0, y0 + half + s * g, x0 + side, y0 + half + s * g, o_.palette.separator, false, 1, 1);
+    }
+    auto path = [&](int k, int from, int to, const Rgb& c, double a) {
+      SetColour(cr_, c, a);
+      cairo_set_line_width(cr_, 2);
+      for (int t = from; t <= to; ++t) {
+        const float* p = scene_.pose(k, t) + 3 * scene_.pelvis;
+        (t == from ? cairo_move_to : cairo_line_to)(cr_, X(p), Y(p));
+      }
+      cairo_stroke(cr_);
+    };
+    const int last = std::max(0, scene_.t_his - 1);
+    if (scene_.t_his > 1) path(samples.front(), 0, last, o_.palette.history_centre, 1);
+    for (int k : samples) path(k, last, scene_.frames() - 1, o_.palette.future_centre, alpha);
+    const float* origin = scene_.pose(samples.front(), last) + 3 * scene_.pelvis;
+    SetColour(cr_, o_.palette.text);
+    cairo_arc(cr_, X(origin), Y(origin), 2.5, 0, 2 * M_PI);
+    cairo_fill(cr_);
   }
 
   // Poses stand where they are vertically but are centred on the pelvis horizontally.
@@ -288,6 +337,7 @@ class StripPainter {
       DrawPose(scene_.pose(k, layout_.future_frames[c]), Role::kFuture,
                first_future_column_ + static_cast<int>(c), row, 1);
     }
+    PaintTrack(row, {k}, 1);
   }
 
   void PaintOverlayRow(int row) {
@@ -311,6 +361,7 @@ class StripPainter {
                  first_future_column_ + static_cast<int>(c), row, o_.overlay_alpha);
       }
     }
+    PaintTrack(row, layout_.samples, o_.overlay_alpha);
   }
 
   const Rgb& BoneColour(int j, Role role) const {
@@ -382,6 +433,7 @@ class StripPainter {
   int first_future_column_ = 0;
   bool dots_ = false;           // no bone is drawn: joints as dots
   float ground_ = 0, top_ = 0;  // projected y range of the drawn poses, metres
+  double track_reach_ = 1;      // metres from the origin to a ground-track square's edge
   double scale_ = 1;            // px per metre
   std::vector<ScreenPoint> pts_;
   std::vector<float> centred_;  // [J, 3]
@@ -424,9 +476,14 @@ StripLayout LayoutStrip(const Scene& scene, const StripOptions& o) {
   l.future_rows = l.future_frames.empty() ? 0 : o.overlay ? 1 : static_cast<int>(l.samples.size());
   const long columns = static_cast<long>(l.history_frames.size() + l.future_frames.size());
   const long rows = (l.history_frames.empty() ? 0 : 1) + l.future_rows;
-  // Half a column more on the right: the last poses' arms reach past their column.
-  const long width = std::max<long>(
-      kMinWidth, 2L * kMargin + kLabelWidth + (2 * columns + 1) * o.column_width / 2);
+  // Half a column more on the right: the last poses' arms reach past their column; then the
+  // ground-track squares.
+  const long poses_right = kMargin + kLabelWidth + (2 * columns + 1) * o.column_width / 2;
+  const bool track = o.ground_track && l.future_rows > 0 && scene.t_his > 0;
+  const long track_side = o.row_height - 2L * kRowPad;
+  if (track) l.track_left = static_cast<int>(poses_right + kMargin);
+  const long width =
+      std::max<long>(kMinWidth, (track ? l.track_left + track_side : poses_right) + kMargin);
   l.rows_top = kMargin + (o.title.empty() ? 0 : kTitleHeight) + kLegendHeight + kAxisHeight;
   const long height = l.rows_top + rows * o.row_height + kMargin;
   if (width > kMaxSide || height > kMaxSide) {

@@ -52,6 +52,10 @@ struct StripOptions {
   Camera camera;
   Palette palette;
   std::string title;  // drawn at the top; "" = none
+  // A top-down square at the end of each future row: the ground track of the pelvis (the history
+  // grey, the future in colour) over a half-metre grid, so that where the body goes shows (the
+  // poses themselves are drawn centred on the pelvis).
+  bool ground_track = true;
 };
 
 enum class ImageFormat { kPng, kSvg };
@@ -65,6 +69,7 @@ struct StripLayout {
   std::vector<int> future_frames;   // frames in each future row
   std::vector<int> samples;         // samples drawn
   int future_rows = 0;              // 1 when overlaid, else samples.size()
+  int track_left = 0;               // x of the ground-track squares; 0 = none
 };
 
 // Validates the options against the scene (the message names the field, its value and the rule)

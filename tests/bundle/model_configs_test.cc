@@ -2,11 +2,13 @@
 // and skeleton that exist, and carries GSPS's published settings for its dataset.
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
+#include "test_support.h"
 
 using namespace motionfork;
 
@@ -51,4 +53,25 @@ TEST_CASE("the shipped model configs carry GSPS's settings for their datasets") 
     CHECK(e.losses.diversity == std::vector<double>{5, 10});
     CHECK(e.losses.diversity_scale == std::vector<double>{15, 50});
   }
+}
+
+TEST_CASE("a config's body frame and trajectory section parse; a trajectory alone is refused") {
+  testing::TempDir dir;
+  const auto path = (dir.path() / "walker.yaml").string();
+  const std::string head = "name: walker\nprotocol: bandai\ngenerator:\n  n_pre: 8\n";
+  std::ofstream(path) << head
+                      << "  body_frame: true\ntrajectory:\n  hidden: 64\n  epochs: 7\n"
+                         "  lr_constant_epochs: 3\n  skating_weight: 0.5\n";
+  const GeneratorTrainConfig c = LoadGeneratorTrainConfig(path);
+  CHECK(c.body_frame);
+  REQUIRE(c.trajectory);
+  CHECK(c.trajectory->hidden == 64);
+  CHECK(c.trajectory->epochs == 7);
+  CHECK(c.trajectory->skating_weight == 0.5);
+  CHECK(c.trajectory->n_out == TrajectoryTrainOptions{}.n_out);  // defaults stay
+  std::ofstream(path) << head << "trajectory:\n  hidden: 64\n";
+  CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path), Catch::Contains("body_frame: true"));
+  std::ofstream(path) << head << "  body_frame: true\ntrajectory:\n  epochs: 2\n"
+                      << "  lr_constant_epochs: 5\n";
+  CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path), Catch::Contains("lr_constant_epochs"));
 }

@@ -28,6 +28,7 @@ Prediction MakePrediction(int k) {
   p.fps = 30;
   p.skeleton = MakeHumanoid();
   p.fixed_parts = {"legs"};
+  p.root_moves = true;
   p.positions.resize(static_cast<size_t>(k) * p.frames() * p.joints() * 3);
   for (size_t i = 0; i < p.positions.size(); ++i)
     p.positions[i] = 0.001f * static_cast<float>(i % 977) - 0.3f;
@@ -68,6 +69,7 @@ TEST_CASE("prediction files round-trip every field", "[io][prediction]") {
     CHECK(parts[0].name == "legs");
     CHECK(parts[0].joints == p.skeleton->GetPartition().parts[0].joints);
     CHECK(q.fixed_parts == std::vector<std::string>{"legs"});
+    CHECK(q.root_moves);
     REQUIRE(q.samples.size() == 3);
     CHECK(q.samples[0].valid);
     CHECK_FALSE(q.samples[1].valid);

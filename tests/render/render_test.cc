@@ -93,6 +93,15 @@ struct Image {
                           static_cast<uint32_t>(std::lround(c.b * 255));
     return std::count(pixels.begin() + static_cast<size_t>(first_row) * width, pixels.end(), want);
   }
+  // The same in the rectangle [x0, x1) x [y0, y1).
+  size_t CountIn(const Rgb& c, int x0, int y0, int x1, int y1) const {
+    size_t n = 0;
+    for (int y = y0; y < y1; ++y) {
+      Image row{x1 - x0, 1, {pixels.begin() + y * width + x0, pixels.begin() + y * width + x1}};
+      n += row.Count(c);
+    }
+    return n;
+  }
 };
 
 Image DecodePng(const std::string& bytes) {
@@ -161,7 +170,11 @@ TEST_CASE("strip PNG decodes with the layout's size and shows both sides' colour
   // History frames 4 9 14, future frames 19..44: 9 columns; rows: history + 3 samples.
   CHECK(layout.history_frames == std::vector<int>{4, 9, 14});
   CHECK(layout.future_frames == std::vector<int>{19, 24, 29, 34, 39, 44});
-  CHECK(layout.width == 12 * 2 + 120 + 9 * 50 + 25);  // half a column of room on the right
+  // Half a column of room on the right, then the ground-track squares (the row less its padding).
+  CHECK(layout.width == 12 * 2 + 120 + 9 * 50 + 25 + 12 + (120 - 20));
+  o.ground_track = false;
+  CHECK(LayoutStrip(BuildScene(p), o).width == 12 * 2 + 120 + 9 * 50 + 25);
+  o.ground_track = true;
   CHECK(layout.height == 12 * 2 + 22 + 18 + 4 * 120);
 
   const Image img = DecodePng(Png(p, o));
@@ -179,6 +192,25 @@ TEST_CASE("strip PNG decodes with the layout's size and shows both sides' colour
   CHECK(img.Count(palette.history_right, poses) > 30);
   CHECK(img.Count(palette.fixed_left) == 0);            // nothing fixed
   CHECK(img.Count(palette.invalid_row, poses) > 1000);  // sample 1 is invalid
+}
+
+TEST_CASE("strip ground tracks show the pelvis walking on ahead of the body") {
+  // The synthetic walk's root moves 1.2 m/s along the way the body faces: up the page, seen
+  // from above.
+  const Prediction p = MakePrediction(2);
+  StripOptions o;
+  o.row_height = 120;
+  o.every = 5;
+  const StripLayout layout = LayoutStrip(BuildScene(p), o);
+  REQUIRE(layout.track_left > 0);
+  const Image img = DecodePng(Png(p, o));
+  const Palette palette;
+  const int side = 120 - 20, top = layout.rows_top + 120 + 10;  // the first sample's row
+  const int x0 = layout.track_left, x1 = x0 + side;
+  const size_t ahead = img.CountIn(palette.future_centre, x0, top, x1, top + side / 2 - 3);
+  const size_t behind = img.CountIn(palette.future_centre, x0, top + side / 2 + 3, x1, top + side);
+  CHECK(ahead > 20);
+  CHECK(behind == 0);
 }
 
 TEST_CASE("strip PNG draws a fixed part in its own style and only then") {
