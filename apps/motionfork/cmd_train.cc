@@ -4,7 +4,6 @@
 #include "bundle/generator_bundle.h"
 #include "commands.h"
 #include "config/config_paths.h"
-#include "config/rig_config.h"
 #include "dataset/dataset.h"
 #include "experiment_common.h"
 #include "flags.h"
@@ -35,20 +34,6 @@ TrainCallbacks EpochReports(EpochBars* bars) {
                     double seconds) { bars->PrintEpoch(epoch, seconds, terms, 4); };
   cb.message = PrintMessage;
   return cb;
-}
-
-// Where the root goes (issue 27): the trajectory network, after the generator's last epoch, once.
-void TrainTrajectoryStage(const TrajectoryTrainOptions& t, const ModelConfig& model,
-                          const Dataset& ds, const std::string& config_dir, const std::string& out,
-                          const GlobalOptions& g) {
-  if (TrajectoryTrained(out)) {
-    PrintText("trajectory: " + out + "/trajectory already trained\n");
-    return;
-  }
-  const std::vector<int> feet = AnkleJoints(*ds.skeleton.skeleton, config_dir);
-  EpochBars bars(t.epochs, !g.quiet);
-  const TrajectoryTrainSummary s = TrainTrajectory(t, model, ds, feet, out, EpochReports(&bars));
-  PrintText(TrajectoryDoneText(s, out));
 }
 
 void RunTrain(const TrainOptions& o, GlobalOptions& g) {
@@ -88,8 +73,11 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   const TrainSummary s =
       TrainGenerator(cfg, model, data, run.out, losses.hooks, EpochReports(&bars), run.stop_after);
   PrintText(TrainingDoneText(s, cfg.training.epochs, run.out));
-  if (cfg.trajectory && s.epochs_done == cfg.training.epochs && IsRankZero())
-    TrainTrajectoryStage(*cfg.trajectory, model, ds, config_dir, run.out, g);
+  if (cfg.trajectory && s.epochs_done == cfg.training.epochs && IsRankZero()) {
+    EpochBars trajectory_bars(cfg.trajectory->epochs, !g.quiet);  // where the root goes (issue 27)
+    PrintText(TrainTrajectoryOnce(*cfg.trajectory, model, ds, config_dir, run.out,
+                                  EpochReports(&trajectory_bars)));
+  }
 }
 
 }  // namespace

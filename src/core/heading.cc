@@ -87,4 +87,11 @@ void RotateAboutUp(float* xyz, size_t points, double angle, UpAxis up) {
   }
 }
 
+double TurnToBodyFrame(float* poses, int frames, int joints, int history, HeadingJoints hj,
+                       UpAxis up) {
+  const double turn = -WindowHeading(poses, history, joints, history - 1, hj, up);
+  RotateAboutUp(poses, static_cast<size_t>(frames) * joints, turn, up);
+  return turn;
+}
+
 }  // namespace motionfork

@@ -51,4 +51,11 @@ double WindowHeading(const float* poses, int frames, int joints, int at, Heading
 // b); the up coordinate stays.
 void RotateAboutUp(float* xyz, size_t points, double angle, UpAxis up);
 
+// Turns a window of poses ([frames, joints, 3], in place: a history, then perhaps its future)
+// into the body's frame of its last history frame: by minus the WindowHeading of its first
+// `history` frames at frame history - 1. Returns that turn, for what belongs with the window
+// (root paths, pseudo futures: RotateAboutUp by it) and to turn its futures back (by minus it).
+double TurnToBodyFrame(float* poses, int frames, int joints, int history, HeadingJoints hj,
+                       UpAxis up);
+
 }  // namespace motionfork

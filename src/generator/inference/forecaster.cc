@@ -45,11 +45,12 @@ struct Forecaster::Impl {
                                   const std::vector<float>& futures, int k,
                                   const std::vector<bool>& fixed) const;
 
-  // The heading of a root-relative history [t_his, N, 3] at its last frame.
-  double Heading(const float* history) const {
+  // Turns a root-relative history [t_his, N, 3] into the body's frame of its last frame; returns
+  // the turn (core/heading.h).
+  double TurnToBodyFrame(float* history) const {
     const GeneratorOptions& g = config.generator;
-    return WindowHeading(history, g.t_his, g.num_nodes, g.t_his - 1, body_frame->nodes,
-                         body_frame->up);
+    return motionfork::TurnToBodyFrame(history, g.t_his, g.num_nodes, g.t_his, body_frame->nodes,
+                                       body_frame->up);
   }
 
   // The network on root-relative histories [Bh, t_his, N, 3] -> [Bh, K, t_pred, N, 3], repaired
@@ -145,6 +146,18 @@ std::optional<UpAxis> Forecaster::body_frame() const {
   if (!impl_->body_frame) return std::nullopt;
   return impl_->body_frame->up;
 }
+
+namespace {
+
+// Throws std::invalid_argument when a history value is NaN or Inf.
+void RequireFinite(const std::vector<float>& history) {
+  for (float v : history) {
+    if (!std::isfinite(v)) throw std::invalid_argument("Predict: the history holds NaN or Inf");
+  }
+}
+
+}  // namespace
+
 void ValidateForecastRequest(const ForecastRequest& request) {
   if (request.k < 1 || request.k > kMaxFutures) {
     throw std::invalid_argument("expected 1.." + std::to_string(kMaxFutures) +
@@ -168,23 +181,18 @@ std::vector<float> Forecaster::PredictRootRelative(const std::vector<float>& his
                                 ", " + std::to_string(g.t_his) + ", " + std::to_string(N) +
                                 ", 3], got " + std::to_string(histories.size()) + " values");
   }
-  for (float v : histories) {
-    if (!std::isfinite(v)) throw std::invalid_argument("Predict: the history holds NaN or Inf");
-  }
+  RequireFinite(histories);
   if (!impl_->body_frame) return impl_->Run(histories.data(), num_histories, request);
   // In the body's frame: each history turned so that its last frame faces the same way, its
   // futures turned back.
   std::vector<float> turned = histories;
   std::vector<double> angles(num_histories);
   const size_t his = static_cast<size_t>(g.t_his) * N;
-  for (int b = 0; b < num_histories; ++b) {
-    angles[b] = impl_->Heading(&turned[b * his * 3]);
-    RotateAboutUp(&turned[b * his * 3], his, -angles[b], impl_->body_frame->up);
-  }
+  for (int b = 0; b < num_histories; ++b) angles[b] = impl_->TurnToBodyFrame(&turned[b * his * 3]);
   std::vector<float> y = impl_->Run(turned.data(), num_histories, request);
   const size_t fut = static_cast<size_t>(request.k) * g.t_pred * N;
   for (int b = 0; b < num_histories; ++b)
-    RotateAboutUp(&y[b * fut * 3], fut, angles[b], impl_->body_frame->up);
+    RotateAboutUp(&y[b * fut * 3], fut, -angles[b], impl_->body_frame->up);
   return y;
 }
 
@@ -292,18 +300,15 @@ std::vector<float> Forecaster::PredictWorld(const float* history,
     // In the body's frame: the network and the trajectory see the history turned, their futures
     // are turned back.
     ValidateForecastRequest(request);
-    for (float v : rel) {
-      if (!std::isfinite(v)) throw std::invalid_argument("Predict: the history holds NaN or Inf");
-    }
+    RequireFinite(rel);
     const UpAxis up = impl_->body_frame->up;
-    const double angle = impl_->Heading(rel.data());
-    RotateAboutUp(rel.data(), static_cast<size_t>(g.t_his) * (J - 1), -angle, up);
-    RotateAboutUp(root_history.data(), g.t_his, -angle, up);
+    const double turn = impl_->TurnToBodyFrame(rel.data());
+    RotateAboutUp(root_history.data(), g.t_his, turn, up);
     y = impl_->Run(rel.data(), 1, request);
     path = impl_->Trajectories(rel.data(), root_history.data(), y, request.k,
                                impl_->parts.FixedMask(request.fixed_parts));
-    RotateAboutUp(y.data(), steps * (J - 1), angle, up);
-    RotateAboutUp(path.data(), steps, angle, up);
+    RotateAboutUp(y.data(), steps * (J - 1), -turn, up);
+    RotateAboutUp(path.data(), steps, -turn, up);
   } else {
     y = PredictRootRelative(rel, 1, request);
     path.assign(steps * 3, 0.0f);

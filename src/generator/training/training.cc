@@ -152,9 +152,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
           mask[b][m] = 1.0f;
         }
         if (body_up) {
-          const double turn =
-              -WindowHeading(dst, data.t_his, N, data.t_his - 1, heading_nodes, *body_up);
-          RotateAboutUp(dst, static_cast<size_t>(T) * N, turn, *body_up);
+          const double turn = TurnToBodyFrame(dst, T, N, data.t_his, heading_nodes, *body_up);
           RotateAboutUp(pseudo.data_ptr<float>() + static_cast<size_t>(b) * M * data.t_pred * N * 3,
                         static_cast<size_t>(M) * data.t_pred * N, turn, *body_up);
         }

@@ -12,6 +12,7 @@
 #include "bodyparts/part_plan.h"
 #include "bundle/bundle_files.h"
 #include "bundle/trajectory_bundle.h"
+#include "config/rig_config.h"
 #include "core/heading.h"
 #include "dataset/windows.h"
 #include "generator/trajectory/trajectory_net.h"
@@ -50,9 +51,7 @@ struct WindowSource {
         for (int j = 1; j < joints; ++j)
           for (int a = 0; a < 3; ++a) p[(t * N + j - 1) * 3 + a] = fr[3 * j + a] - fr[a];
       }
-      const double turn = -WindowHeading(p, t_his, N, t_his - 1, heading, up);
-      RotateAboutUp(p, static_cast<size_t>(T) * N, turn, up);
-      RotateAboutUp(r, T, turn, up);
+      RotateAboutUp(r, T, TurnToBodyFrame(p, T, N, t_his, heading, up), up);
     }
   }
 };
@@ -277,6 +276,15 @@ std::string TrajectoryDoneText(const TrajectoryTrainSummary& s, const std::strin
                 s.train_windows, s.validation_windows, s.kept_epoch, s.val_ade, s.val_fde,
                 s.seconds, (fs::path(out_dir) / kTrajectoryFolder).string().c_str());
   return line;
+}
+
+std::string TrainTrajectoryOnce(const TrajectoryTrainOptions& options, const ModelConfig& model,
+                                const Dataset& ds, const std::string& config_dir,
+                                const std::string& out_dir, const TrainCallbacks& callbacks) {
+  if (TrajectoryTrained(out_dir))
+    return "trajectory: " + out_dir + "/" + kTrajectoryFolder + " already trained\n";
+  const std::vector<int> feet = AnkleJoints(*ds.skeleton.skeleton, config_dir);
+  return TrajectoryDoneText(TrainTrajectory(options, model, ds, feet, out_dir, callbacks), out_dir);
 }
 
 }  // namespace motionfork

@@ -40,4 +40,11 @@ bool TrajectoryTrained(const std::string& out_dir);
 // What a trajectory run into out_dir did, newline-terminated.
 std::string TrajectoryDoneText(const TrajectoryTrainSummary& summary, const std::string& out_dir);
 
+// The train command's last stage: trains into out_dir unless it already holds a trajectory, with
+// the skating term's ankles found by the rig conventions in config_dir (config/rig_config.h).
+// Returns what it did, newline-terminated (TrajectoryDoneText, or that it was there already).
+std::string TrainTrajectoryOnce(const TrajectoryTrainOptions& options, const ModelConfig& model,
+                                const Dataset& ds, const std::string& config_dir,
+                                const std::string& out_dir, const TrainCallbacks& callbacks);
+
 }  // namespace motionfork
