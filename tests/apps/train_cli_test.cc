@@ -150,3 +150,57 @@ TEST_CASE(
   CHECK_THAT(ReadFileBytes(dir.file("run2") + "/training.yaml"),
              Contains("--epochs 1 on the command line"));
 }
+
+TEST_CASE(
+    "train: a trajectory section added to a finished body-frame run trains the trajectory, once, "
+    "and predict moves the root") {
+  motionfork::testing::TempDir dir;
+  const std::string data = dir.file("data"), out = dir.file("run");
+  fs::create_directories(data);
+  int heading = 0;
+  for (const char* clip : {"walk_a", "walk_b", "walk_c"}) {
+    const Run r = Motionfork("synth walk --frames 160 --heading " + std::to_string(heading += 40) +
+                             " -o " + data + "/" + clip + ".bvh");
+    REQUIRE(r.status == 0);
+  }
+  std::ofstream(data + "/split.tsv") << "train\twalk_a.bvh\ntrain\twalk_b.bvh\ntest\twalk_c.bvh\n";
+  std::string body = kTinyConfig;
+  body.replace(body.find("  partition: default\n"), 21,
+               "  partition: default\n  body_frame: true\n");
+  std::ofstream(dir.file("body.yaml")) << body;
+  const std::string train = "-q train --data " + data + " --out " + out + " --config ";
+  Run r = Motionfork(train + dir.file("body.yaml"));
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK_FALSE(fs::exists(out + "/trajectory"));
+
+  // The same config with a trajectory section: the generator's epochs are done, the trajectory
+  // trains into OUT/trajectory/ and the recorded config is the new one.
+  std::ofstream(dir.file("body_trajectory.yaml"))
+      << body
+      << "trajectory:\n  hidden: 16\n  layers: 1\n  epochs: 2\n  lr_constant_epochs: 1\n"
+         "  batch: 8\n  window_stride: 10\n  validation_every: 0\n";
+  r = Motionfork(train + dir.file("body_trajectory.yaml"));
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(r.output, Contains("trajectory:") && Contains("kept epoch 2"));
+  CHECK(fs::is_regular_file(out + "/trajectory/trajectory.yaml"));
+  CHECK_THAT(ReadFileBytes(out + "/training.yaml"), Contains("trajectory:\n  hidden: 16"));
+  r = Motionfork(train + dir.file("body_trajectory.yaml"));
+  CHECK(r.status == 0);
+  CHECK_THAT(r.output, Contains("already trained"));
+
+  // The generator's own settings still may not change.
+  std::string other = body;
+  other.replace(other.find("learning_rate: 0.001"), 20, "learning_rate: 0.002");
+  std::ofstream(dir.file("other.yaml")) << other;
+  r = Motionfork(train + dir.file("other.yaml"));
+  CHECK(r.status == 2);
+  CHECK_THAT(r.output, Contains("another config than now"));
+
+  r = Motionfork("predict --model " + out + " --history " + data + "/walk_c.bvh -k 3 --seed 1 -o " +
+                 dir.file("futures"));
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK_THAT(ReadFileBytes(dir.file("futures.json")), Contains("\"root_moves\": true"));
+}

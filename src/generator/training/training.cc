@@ -90,6 +90,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     resumed[0] = ResumeFromCheckpoint(ckpt, "generator.pt", *net, adam, out / "log.csv");
   workers.BroadcastTrainingState(*net, adam, &resumed);
   summary.first_epoch = static_cast<int>(resumed[0]);
+  summary.epochs_done = summary.first_epoch;  // a finished run resumed has them all
   if (summary.first_epoch > 0 && cb.message) {
     cb.message("resuming from " + ckpt.string() + " at epoch " +
                std::to_string(summary.first_epoch + 1));

@@ -31,7 +31,8 @@ struct TrainCallbacks {
 
 struct TrainSummary {
   int first_epoch = 0;  // > 0 when resumed
-  int epochs_done = 0;
+  int epochs_done =
+      0;  // epochs the folder holds at the end (all of them when a finished run resumes)
   double seconds = 0;
   int workers = 1;            // processes in the run (data_parallel.h)
   double reduce_seconds = 0;  // of `seconds`, in the gradient all-reduce (several workers)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 #include "bundle/prior_bundle.h"
@@ -22,6 +23,24 @@ std::string TrainingSplitName(const std::string& split_file) {
   return split_file.empty() ? "the protocol's own" : fs::absolute(split_file).string();
 }
 
+namespace {
+
+// A config's text without its top-level `trajectory:` section (the key's line and the indented,
+// blank or comment lines after it): the part of a config that shapes the generator's epochs.
+std::string WithoutTrajectorySection(const std::string& config) {
+  std::istringstream in(config);
+  std::string kept, line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    const bool top_level = !line.empty() && line[0] != ' ' && line[0] != '\t' && line[0] != '#';
+    if (top_level) inside = line.rfind("trajectory:", 0) == 0;
+    if (!inside) kept += line + "\n";
+  }
+  return kept;
+}
+
+}  // namespace
+
 void RecordTrainingConfig(const std::string& out, const std::string& config_path,
                           const std::string& split_file, int epochs) {
   static const std::string kConfigMark = "# --- the config file as read ---\n";
@@ -32,9 +51,10 @@ void RecordTrainingConfig(const std::string& out, const std::string& config_path
   if (trained && fs::is_regular_file(recorded)) {
     const std::string before = ReadFileBytes(recorded.string());
     const size_t mark = before.find(kConfigMark);
-    const bool same_config =
-        mark != std::string::npos &&
-        before.compare(mark + kConfigMark.size(), std::string::npos, body) == 0;
+    // A trajectory section may come or change: it trains after the generator's epochs.
+    const bool same_config = mark != std::string::npos &&
+                             WithoutTrajectorySection(before.substr(mark + kConfigMark.size())) ==
+                                 WithoutTrajectorySection(body);
     const size_t split_at = before.find(split_line);
     if (!same_config || split_at == std::string::npos || split_at > mark) {
       throw FormatError(FormatMessage(

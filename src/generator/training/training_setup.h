@@ -22,6 +22,8 @@ void OverrideEpochs(TrainingOptions* training, int epochs);
 // OUT/training.yaml holds a header (the config's path, the split, what an --epochs override
 // changed; epochs 0 = none) and the config file as read. A folder that has trained epochs is
 // refused (FormatError) for another config or split: resuming would mix two recipes in one model.
+// A config that differs only in its `trajectory` section is the same recipe (that section trains
+// after the generator's last epoch: adding one to a finished run's config trains it).
 // Call before any data is read.
 void RecordTrainingConfig(const std::string& out, const std::string& config_path,
                           const std::string& split_file, int epochs);
