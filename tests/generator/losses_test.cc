@@ -135,3 +135,42 @@ TEST_CASE("losses: fused pose errors equal GSPS's formulas in LibTorch ops, valu
   REQUIRE(prior_frames.defined());
   CHECK(torch::equal(prior_frames, r_frames));
 }
+
+TEST_CASE("losses: in the body's frame the prior scores the poses turned back to the data's axes") {
+  PinThreads(1);
+  torch::manual_seed(5);
+  const int64_t Bh = 2, K = 6, T = 10, N = 5;
+  const torch::Tensor world = torch::randn({Bh * K, T, N, 3}) * 0.3;
+  // Each history's window turned about y (ground axes x = 0, z = 2) by its own angle, as
+  // training turns a window into its body frame; world_turn takes it back.
+  const std::vector<double> turn = {0.8, -2.1};
+  torch::Tensor body = world.clone();
+  for (int64_t h = 0; h < Bh; ++h) {
+    const double c = std::cos(turn[h]), s = std::sin(turn[h]);
+    const torch::Tensor x = world.slice(0, h * K, (h + 1) * K).select(-1, 0);
+    const torch::Tensor z = world.slice(0, h * K, (h + 1) * K).select(-1, 2);
+    body.slice(0, h * K, (h + 1) * K).select(-1, 0).copy_(c * x - s * z);
+    body.slice(0, h * K, (h + 1) * K).select(-1, 2).copy_(s * x + c * z);
+  }
+  auto prior_input = [&](const torch::Tensor& pred, const std::vector<double>& world_turn) {
+    LossBatch b = SmallBatch(T);
+    b.pred = pred.clone().requires_grad_(true);
+    b.world_turn = world_turn;
+    torch::Tensor seen;
+    LossHooks hooks;
+    hooks.prior_nll = [&](const torch::Tensor& poses) {
+      seen = poses.detach().clone();
+      return poses.pow(2).mean();
+    };
+    const LossTerms terms = ComputeLosses(b, UnitDiversity(), hooks, 0, 1);
+    CHECK(
+        torch::autograd::grad({Term(terms, "prior_nll")}, {b.pred})[0].abs().sum().item<double>() >
+        0);
+    return seen;
+  };
+  const torch::Tensor want = prior_input(world, {});
+  const torch::Tensor got = prior_input(body, {-turn[0], -turn[1]});
+  CHECK(torch::allclose(got, want, 1e-5, 1e-5));
+  CHECK_FALSE(torch::allclose(prior_input(body, {}), want, 1e-3, 1e-3));
+  CHECK_THROWS_WITH(prior_input(body, {0.5}), Catch::Contains("expected 2 turns, got 1"));
+}

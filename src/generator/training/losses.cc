@@ -1,11 +1,34 @@
 #include "generator/training/losses.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "generator/training/group_distances.h"
 #include "generator/training/pose_errors.h"
 
 namespace motionfork {
+
+namespace {
+
+// poses [Bh, ...(, 3)] turned per history by b.world_turn about up (the ground axes a towards b).
+torch::Tensor TurnedBack(const torch::Tensor& poses, const LossBatch& b) {
+  const int64_t Bh = poses.size(0);
+  if (static_cast<int64_t>(b.world_turn.size()) != Bh) {
+    throw std::invalid_argument("losses: expected " + std::to_string(Bh) + " turns, got " +
+                                std::to_string(b.world_turn.size()));
+  }
+  torch::Tensor r = torch::eye(3).repeat({Bh, 1, 1});  // [Bh, 3, 3], p' = r p
+  for (int64_t h = 0; h < Bh; ++h) {
+    const double c = std::cos(b.world_turn[h]), s = std::sin(b.world_turn[h]);
+    r[h][b.ground_a][b.ground_a] = c;
+    r[h][b.ground_a][b.ground_b] = -s;
+    r[h][b.ground_b][b.ground_a] = s;
+    r[h][b.ground_b][b.ground_b] = c;
+  }
+  return torch::matmul(poses.reshape({Bh, -1, 3}), r.transpose(1, 2)).view(poses.sizes());
+}
+
+}  // namespace
 
 LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHooks& hooks,
                         int64_t prior_offset, int64_t prior_step) {
@@ -79,7 +102,8 @@ LossTerms ComputeLosses(const LossBatch& b, const LossWeights& w, const LossHook
   }
 
   if (hooks.prior_nll) {
-    const torch::Tensor frames = pred.slice(2, b.t_his + prior_offset, T, prior_step);
+    torch::Tensor frames = pred.slice(2, b.t_his + prior_offset, T, prior_step);
+    if (!b.world_turn.empty()) frames = TurnedBack(frames, b);
     add("prior_nll", hooks.prior_nll(frames.reshape({-1, N, 3})), w.prior_nll);
   }
   if (hooks.angle_penalty) {

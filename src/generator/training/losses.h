@@ -26,6 +26,12 @@ struct LossBatch {
   // a batch of B histories, a share of Bs and C pseudo futures in the whole batch, so that the
   // shares' terms weighted by Bs / B add up to the whole batch's mean.
   double pseudo_norm = 0;
+  // Training in the body's frame (generator.body_frame): per history, the turn about up (radians,
+  // core/heading.h's sense) that takes its window back to the data's own axes, and the ground
+  // axes (a, b) it turns; the prior, trained on the data as it was recorded, scores the poses so
+  // turned back. Empty: the poses are in the data's axes already.
+  std::vector<double> world_turn;
+  int ground_a = 0, ground_b = 2;
 };
 
 // Optional terms from other modules: scalar tensors from predicted poses.

@@ -7,6 +7,7 @@
 #include <optional>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 #include "bodyparts/part_plan.h"
 #include "bundle/generator_net_bundle.h"
@@ -137,7 +138,8 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       torch::Tensor pseudo = torch::zeros({Bs, M, data.t_pred, N, 3});
       torch::Tensor mask = torch::zeros({Bs, M});
       std::vector<float> other(static_cast<size_t>(T) * N * 3);
-      int64_t pseudo_futures = 0;  // in the whole batch
+      std::vector<double> world_turn(body_up ? Bs : 0);  // the prior's view: the data's axes
+      int64_t pseudo_futures = 0;                        // in the whole batch
       for (int w : picked) pseudo_futures += std::min<int64_t>(M, data.multimodal[w].size());
       for (int b = 0; b < Bs; ++b) {
         const int w = picked[share.begin + b];
@@ -154,6 +156,7 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         }
         if (body_up) {
           const double turn = TurnToBodyFrame(dst, T, N, data.t_his, heading_nodes, *body_up);
+          world_turn[b] = -turn;
           RotateAboutUp(pseudo.data_ptr<float>() + static_cast<size_t>(b) * M * data.t_pred * N * 3,
                         static_cast<size_t>(M) * data.t_pred * N, turn, *body_up);
         }
@@ -173,6 +176,10 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                       data.t_his};
       if (workers.distributed() && pseudo_futures > 0)
         batch.pseudo_norm = static_cast<double>(Bh) / (static_cast<double>(Bs) * pseudo_futures);
+      if (body_up) {
+        batch.world_turn = std::move(world_turn);
+        std::tie(batch.ground_a, batch.ground_b) = GroundAxes(*body_up);
+      }
       const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
       const LossTerms terms =
           ComputeLosses(batch, config.losses, hooks, offset, t.prior_frame_step);
