@@ -59,13 +59,14 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   }
   const Dataset ds = LoadProtocolDataset(cfg.protocol, run.data, run.split_file, g);
   const Skeleton& skeleton = *ds.skeleton.skeleton;
+  const ModelConfig model = TrainingModelConfig(cfg, ds.protocol, skeleton, run.split_file);
   TrainingWindows data;
   {
     ProgressBar bar("pseudo multimodal futures", !g.quiet);
     data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal,
-                                CacheDir(g.cache_dir), [&bar](double f) { bar.Update(f); });
+                                model.generator.body_frame, CacheDir(g.cache_dir),
+                                [&bar](double f) { bar.Update(f); });
   }
-  const ModelConfig model = TrainingModelConfig(cfg, ds.protocol, skeleton, run.split_file);
   const LossHookSources losses = MakeLossHooks(cfg, skeleton, config_dir);
   PrintText(TrainingSetupText(data, cfg.training.window_stride, losses));
   if (IsRankZero()) AttachToBundle(run.out, losses.constraints_path, losses.prior_dir);

@@ -22,8 +22,8 @@ TEST_CASE("training on synthetic motion lowers every loss term, resumes, and sav
   const Dataset ds = SyntheticDataset(8, 60);
   const GeneratorTrainConfig cfg = TinyConfig();
   const ModelConfig model = ModelFor(ds, cfg);
-  const TrainingWindows data =
-      BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, cache.path().string());
+  const TrainingWindows data = BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal,
+                                                    "", cache.path().string());
   REQUIRE(data.windows.size() == 6u * 23);  // 6 train clips of 60 frames, starts 0, 2, ..., 44
   size_t with_mm = 0;
   for (const auto& m : data.multimodal) with_mm += !m.empty();
@@ -101,7 +101,7 @@ TEST_CASE("a fixed later part keeps its own joints when earlier parts are the sa
   GeneratorTrainConfig cfg = TinyConfig();
   cfg.training.epochs = 1;
   cfg.training.lr_constant_epochs = 1;
-  const TrainingWindows data = BuildTrainingWindows(ds, 3, cfg.multimodal, "");
+  const TrainingWindows data = BuildTrainingWindows(ds, 3, cfg.multimodal, "", "");
   TrainGenerator(cfg, ModelFor(ds, cfg), data, out.path().string(), {}, {});
   const Forecaster f = LoadForecaster(out.path().string());
   ForecastRequest req;

@@ -1,6 +1,7 @@
 // Where the root goes (issue 27): the trajectory network, its bundle, its training, and the
 // Forecaster predicting in the body's frame (turning and moving a history turns and moves every
 // future alike).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -110,7 +111,8 @@ TEST_CASE("trained on walks in every direction, futures walk on and turn with th
   cfg.body_frame = true;
   ModelConfig model = testing::ModelFor(ds, cfg);
   model.generator.body_frame = "y";
-  const TrainingWindows data = BuildTrainingWindows(ds, 2, cfg.multimodal, "");
+  const TrainingWindows data =
+      BuildTrainingWindows(ds, 2, cfg.multimodal, model.generator.body_frame, "");
   TrainGenerator(cfg, model, data, out.path().string(), {}, {});
 
   TrajectoryTrainOptions t;
@@ -182,12 +184,32 @@ TEST_CASE("a trajectory needs a generator in the body's frame") {
   cfg.training.epochs = 1;
   cfg.training.lr_constant_epochs = 1;
   const ModelConfig model = testing::ModelFor(ds, cfg);
-  TrainGenerator(cfg, model, BuildTrainingWindows(ds, 3, cfg.multimodal, ""), out.path().string(),
-                 {}, {});
+  TrainGenerator(cfg, model, BuildTrainingWindows(ds, 3, cfg.multimodal, "", ""),
+                 out.path().string(), {}, {});
   CHECK_THROWS_WITH(TrainTrajectory({}, model, ds, {}, out.path().string(), {}),
                     Catch::Contains("body_frame: true"));
   Forecaster f = LoadForecaster(out.path().string());
   CHECK_FALSE(f.moves_root());
   CHECK_THROWS_WITH(f.AttachTrajectory(RandomNet(SmallOptions()).ptr()),
                     Catch::Contains("trained in the body's frame"));
+}
+
+TEST_CASE("in the body's frame a window's pseudo futures do not depend on which way it faced") {
+  // The same walks, turned a different way per clip or not at all: in the body's frame every
+  // window finds the same pseudo futures; in the data's own axes the turned walks find others.
+  MultimodalOptions o = testing::TinyConfig().multimodal;
+  o.max_per_window = 1000;  // every candidate, so that the sets compare as sets
+  auto sets = [&](const Dataset& ds, const std::string& body_frame) {
+    std::vector<std::vector<int32_t>> out =
+        BuildTrainingWindows(ds, 2, o, body_frame, "").multimodal;
+    for (auto& s : out) std::sort(s.begin(), s.end());
+    return out;
+  };
+  const Dataset plain = testing::SyntheticDataset(8, 60), turned = TurnedWalks(8, 60);
+  const auto body_plain = sets(plain, "y"), body_turned = sets(turned, "y");
+  size_t pairs = 0;
+  for (const auto& s : body_plain) pairs += s.size();
+  CHECK(pairs > 0);
+  CHECK(body_turned == body_plain);
+  CHECK(sets(turned, "") != sets(plain, ""));
 }

@@ -145,20 +145,19 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         const int w = picked[share.begin + b];
         float* dst = truth.data_ptr<float>() + static_cast<size_t>(b) * T * N * 3;
         data.Gather(w, dst);
+        // In the body's frame: the window, and each pseudo future in its own window's frame
+        // before it is retargeted (as BuildTrainingWindows matched them).
+        if (body_up)
+          world_turn[b] = -TurnToBodyFrame(dst, T, N, data.t_his, heading_nodes, *body_up);
         const auto& mm = data.multimodal[w];
         for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
           data.Gather(mm[m], other.data());
+          if (body_up) TurnToBodyFrame(other.data(), T, N, data.t_his, heading_nodes, *body_up);
           RetargetFuture(
               other.data() + static_cast<size_t>(data.t_his) * N * 3,
               dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
               pseudo.data_ptr<float>() + (static_cast<size_t>(b) * M + m) * data.t_pred * N * 3);
           mask[b][m] = 1.0f;
-        }
-        if (body_up) {
-          const double turn = TurnToBodyFrame(dst, T, N, data.t_his, heading_nodes, *body_up);
-          world_turn[b] = -turn;
-          RotateAboutUp(pseudo.data_ptr<float>() + static_cast<size_t>(b) * M * data.t_pred * N * 3,
-                        static_cast<size_t>(M) * data.t_pred * N, turn, *body_up);
         }
       }
       std::vector<torch::Tensor> z = NestedLatents(Bh, t.samples_per_part, model.generator.nz, gen);

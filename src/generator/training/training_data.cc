@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/heading.h"
 #include "io/clip_cache.h"
 #include "io/file_util.h"
 
@@ -35,18 +37,66 @@ float MeanJointDistance(const float* a, const float* b, int nodes) {
   return sum / nodes;
 }
 
+// Mean over joints of the per-joint distance between pose a and pose b turned about up by the
+// angle whose cosine and sine are c, s (ground axes ga towards gb, as RotateAboutUp).
+float MeanJointDistanceTurned(const float* a, const float* b, int nodes, float c, float s, int ga,
+                              int gb) {
+  float sum = 0;
+  for (int j = 0; j < nodes; ++j) {
+    float t[3] = {b[3 * j], b[3 * j + 1], b[3 * j + 2]};
+    const float x = t[ga], y = t[gb];
+    t[ga] = c * x - s * y;
+    t[gb] = s * x + c * y;
+    const float dx = a[3 * j] - t[0], dy = a[3 * j + 1] - t[1], dz = a[3 * j + 2] - t[2];
+    sum += std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+  return sum / nodes;
+}
+
+// How each window is turned into the body's frame (none: all 0).
+struct WindowTurns {
+  std::optional<UpAxis> up;
+  std::vector<double> turn;  // per window, radians (TurnToBodyFrame's)
+};
+
+WindowTurns ComputeTurns(const TrainingWindows& tw, const std::string& body_frame,
+                         const Skeleton& skeleton) {
+  WindowTurns out;
+  out.turn.assign(tw.windows.size(), 0.0);
+  if (body_frame.empty()) return out;
+  out.up = ParseUp(body_frame);
+  const std::optional<HeadingJoints> j = FindHeadingJoints(skeleton);
+  if (!j) {
+    throw std::invalid_argument("training in the body's frame: skeleton '" + skeleton.name() +
+                                "' names no left/right joint pair to tell a heading by");
+  }
+  const HeadingJoints nodes{j->left - 1, j->right - 1};
+  const size_t frame = static_cast<size_t>(tw.num_nodes) * 3;
+  for (size_t w = 0; w < tw.windows.size(); ++w) {
+    const Window& win = tw.windows[w];
+    out.turn[w] = -WindowHeading(tw.clip_poses[win.clip].data() + win.start * frame, tw.t_his,
+                                 tw.num_nodes, tw.t_his - 1, nodes, *out.up);
+  }
+  return out;
+}
+
 std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
                                                     const MultimodalOptions& o,
+                                                    const WindowTurns& turns,
                                                     const std::function<void(double)>& progress) {
   const int W = static_cast<int>(tw.windows.size()), N = tw.num_nodes, D = N * 3;
   const size_t frame = static_cast<size_t>(D);
-  // Last history poses [W, D].
+  // Last history poses [W, D], in the body's frame when there is one.
   Eigen::MatrixXf last(W, D);
+  std::vector<float> pose(frame);
   for (int w = 0; w < W; ++w) {
     const Window& win = tw.windows[w];
     const float* p = tw.clip_poses[win.clip].data() + (win.start + tw.t_his - 1) * frame;
-    for (int d = 0; d < D; ++d) last(w, d) = p[d];
+    std::copy(p, p + frame, pose.begin());
+    if (turns.up) RotateAboutUp(pose.data(), N, turns.turn[w], *turns.up);
+    for (int d = 0; d < D; ++d) last(w, d) = pose[d];
   }
+  const auto [ga, gb] = turns.up ? GroundAxes(*turns.up) : std::pair<int, int>{0, 2};
   const Eigen::VectorXf sq = last.rowwise().squaredNorm();
   // Mean per-joint distance <= t implies vector L2 <= N * t: a cheap pre-filter by matrix products.
   const float l2_bound = static_cast<float>(N * o.last_pose_threshold);
@@ -66,13 +116,20 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
         if (v == w) continue;
         const float d2 = sq[w] + sq[v] - 2 * dots(r, v);
         if (d2 > l2_bound * l2_bound) continue;
+        // Window a's poses against window b's, each in its own frame: b turned by the difference.
+        const double turn = turns.up ? turns.turn[v] - turns.turn[w] : 0.0;
+        const float c = static_cast<float>(std::cos(turn)), sn = static_cast<float>(std::sin(turn));
+        auto distance = [&](const float* a, const float* b) {
+          return turns.up ? MeanJointDistanceTurned(a, b, N, c, sn, ga, gb)
+                          : MeanJointDistance(a, b, N);
+        };
         const Window& wb = tw.windows[v];
         const float* b_last = tw.clip_poses[wb.clip].data() + (wb.start + tw.t_his - 1) * frame;
-        const float dist = MeanJointDistance(a_last, b_last, N);
+        const float dist = distance(a_last, b_last);
         if (dist > o.last_pose_threshold) continue;
         float fut = 0;
         for (int t = 0; t < tw.t_pred; ++t)
-          fut += MeanJointDistance(a_fut + t * frame, b_last + (t + 1) * frame, N);
+          fut += distance(a_fut + t * frame, b_last + (t + 1) * frame);
         if (fut / tw.t_pred < o.future_min_distance) continue;
         cand.emplace_back(dist, v);
       }
@@ -120,7 +177,8 @@ bool ReadTrainingMultimodalCache(const std::string& cache, size_t windows,
 }  // namespace
 
 TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
-                                     const MultimodalOptions& options, const std::string& cache_dir,
+                                     const MultimodalOptions& options,
+                                     const std::string& body_frame, const std::string& cache_dir,
                                      const std::function<void(double)>& progress) {
   TrainingWindows tw;
   tw.t_his = dataset.protocol.t_his;
@@ -132,6 +190,7 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   std::ostringstream key;
   key << "mm1|" << dataset.protocol.name << "|" << stride << "|" << options.last_pose_threshold
       << "|" << options.future_min_distance << "|" << options.max_per_window;
+  if (!body_frame.empty()) key << "|body frame " << body_frame;
   for (int c : train) {
     const Clip& clip = dataset.clips[c];
     tw.clip_poses.push_back(PoseVectorsWithoutRoot(clip.motion));
@@ -156,7 +215,8 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   if (!cache.empty() && ReadTrainingMultimodalCache(cache, tw.windows.size(), &tw.multimodal)) {
     return tw;
   }
-  tw.multimodal = ComputeMultimodal(tw, options, progress);
+  tw.multimodal = ComputeMultimodal(
+      tw, options, ComputeTurns(tw, body_frame, *dataset.skeleton.skeleton), progress);
   if (!cache.empty()) {
     std::string bytes;
     auto put = [&](const void* src, size_t n) { bytes.append(static_cast<const char*>(src), n); };

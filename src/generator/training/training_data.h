@@ -4,7 +4,10 @@
 // root-relative without the root. Pseudo multimodal futures (GSPS): other windows whose last
 // history pose is within a mean per-joint distance of this one's and whose future differs by at
 // least a given mean per-joint distance; the closest ones first, up to a maximum. Built once and
-// cached (the cache key covers the clips and the options).
+// cached (the cache key covers the clips and the options). For a generator in the body's frame
+// the poses are compared as that generator sees them: each window turned into the body's frame
+// of its last history frame (core/heading.h), so that a pose's pseudo futures do not depend on
+// which way it faced (training then retargets them in that frame too).
 #pragma once
 
 #include <cstdint>
@@ -29,9 +32,12 @@ struct TrainingWindows {
   void Gather(int w, float* out) const;
 };
 
-// progress(fraction) is called while the multimodal sets are computed. cache_dir "" = no cache.
+// body_frame: GeneratorOptions::body_frame ("" = the data's own axes; else the up axis, the
+// heading from the skeleton's FindHeadingJoints). progress(fraction) is called while the
+// multimodal sets are computed. cache_dir "" = no cache.
 TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
-                                     const MultimodalOptions& options, const std::string& cache_dir,
+                                     const MultimodalOptions& options,
+                                     const std::string& body_frame, const std::string& cache_dir,
                                      const std::function<void(double)>& progress = nullptr);
 
 }  // namespace motionfork
