@@ -38,6 +38,19 @@ std::optional<HeadingJoints> FindHeadingJoints(const Skeleton& skeleton) {
   return HeadingJoints{pairs.front().first, pairs.front().second};
 }
 
+HeadingJoints HeadingNodes(const Skeleton& skeleton) {
+  const std::optional<HeadingJoints> j = FindHeadingJoints(skeleton);
+  if (!j) {
+    throw std::invalid_argument("skeleton '" + skeleton.name() +
+                                "' names no left/right joint pair to tell the body's heading by");
+  }
+  if (j->left == 0 || j->right == 0) {
+    throw std::invalid_argument("skeleton '" + skeleton.name() +
+                                "': its heading pair includes the root, expected two other joints");
+  }
+  return {j->left - 1, j->right - 1};
+}
+
 namespace {
 
 constexpr double kMinLine = 1e-3;  // metres: shorter lines on the ground tell no heading

@@ -37,6 +37,11 @@ struct HeadingJoints {
 // first left/right pair (shoulders); none when it names no pair.
 std::optional<HeadingJoints> FindHeadingJoints(const Skeleton& skeleton);
 
+// FindHeadingJoints as indices of the root-relative nodes (joint - 1: poses without their root),
+// which the generator sees. Throws std::invalid_argument naming the skeleton when it names no
+// left/right pair, or when the pair includes the root.
+HeadingJoints HeadingNodes(const Skeleton& skeleton);
+
 // The heading of a pose ([J, 3], any translation): the angle in the ground plane of the line from
 // the right joint to the left one. NaN when that line is (nearly, under 1 mm) vertical.
 double HeadingAngle(const float* pose, HeadingJoints joints, UpAxis up);

@@ -35,6 +35,11 @@ TEST_CASE("the heading joints are the hips hanging on the root") {
   CHECK(skel->joint_name(j->left) == "UpperLeg_L");
   CHECK(skel->joint_name(j->right) == "UpperLeg_R");
   CHECK_FALSE(FindHeadingJoints(Skeleton::Anonymous(5)));
+  // The generator's nodes leave the root out.
+  const HeadingJoints nodes = HeadingNodes(*skel);
+  CHECK(nodes.left == j->left - 1);
+  CHECK(nodes.right == j->right - 1);
+  CHECK_THROWS_WITH(HeadingNodes(Skeleton::Anonymous(5)), Catch::Contains("no left/right joint"));
 }
 
 TEST_CASE("turning a pose about up turns its heading by the same angle and keeps heights") {

@@ -113,6 +113,9 @@ TEST_CASE("trained on walks in every direction, futures walk on and turn with th
   model.generator.body_frame = "y";
   const TrainingWindows data =
       BuildTrainingWindows(ds, 2, cfg.multimodal, model.generator.body_frame, "");
+  CHECK_THROWS_WITH(TrainGenerator(cfg, model, BuildTrainingWindows(ds, 2, cfg.multimodal, "", ""),
+                                   out.path().string(), {}, {}),
+                    Catch::Contains("its windows were built in the data's axes"));
   TrainGenerator(cfg, model, data, out.path().string(), {}, {});
 
   TrajectoryTrainOptions t;

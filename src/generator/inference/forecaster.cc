@@ -83,12 +83,7 @@ Forecaster::Forecaster(ModelConfig config, std::shared_ptr<GeneratorNetImpl> net
   impl.parts = MakePartPlan(*impl.skeleton, impl.config.generator.partition);
   if (!impl.config.generator.body_frame.empty()) {
     const UpAxis up = ParseUp(impl.config.generator.body_frame);
-    const std::optional<HeadingJoints> joints = FindHeadingJoints(*impl.skeleton);
-    if (!joints) {
-      throw std::invalid_argument("the skeleton '" + impl.skeleton->name() +
-                                  "' names no left/right joints to tell the body's heading by");
-    }
-    impl.body_frame = Impl::BodyFrame{up, {joints->left - 1, joints->right - 1}};
+    impl.body_frame = Impl::BodyFrame{up, HeadingNodes(*impl.skeleton)};
   }
   if (constraints) {
     impl.repair = std::make_unique<PoseRepair>(*constraints, *impl.skeleton, impl.parts);

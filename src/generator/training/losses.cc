@@ -18,12 +18,14 @@ torch::Tensor TurnedBack(const torch::Tensor& poses, const LossBatch& b) {
                                 std::to_string(b.world_turn.size()));
   }
   torch::Tensor r = torch::eye(3).repeat({Bh, 1, 1});  // [Bh, 3, 3], p' = r p
-  for (int64_t h = 0; h < Bh; ++h) {
-    const double c = std::cos(b.world_turn[h]), s = std::sin(b.world_turn[h]);
-    r[h][b.ground_a][b.ground_a] = c;
-    r[h][b.ground_a][b.ground_b] = -s;
-    r[h][b.ground_b][b.ground_a] = s;
-    r[h][b.ground_b][b.ground_b] = c;
+  float* m = r.data_ptr<float>();
+  for (int64_t h = 0; h < Bh; ++h, m += 9) {
+    const float c = static_cast<float>(std::cos(b.world_turn[h]));
+    const float s = static_cast<float>(std::sin(b.world_turn[h]));
+    m[3 * b.ground_a + b.ground_a] = c;
+    m[3 * b.ground_a + b.ground_b] = -s;
+    m[3 * b.ground_b + b.ground_a] = s;
+    m[3 * b.ground_b + b.ground_b] = c;
   }
   return torch::matmul(poses.reshape({Bh, -1, 3}), r.transpose(1, 2)).view(poses.sizes());
 }

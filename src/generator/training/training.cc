@@ -80,6 +80,13 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                                 " entries, the partition '" + plan.partition + "' has " +
                                 std::to_string(plan.num_parts()) + " parts");
   }
+  if (model.generator.body_frame.empty() == data.up.has_value()) {
+    throw std::invalid_argument(std::string("training: the generator predicts in ") +
+                                (data.up ? "the data's axes" : "the body's frame") +
+                                ", its windows were built in " +
+                                (data.up ? "the body's frame" : "the data's axes") +
+                                " (BuildTrainingWindows's body_frame must be the generator's)");
+  }
   const int Bh = t.batch_histories;
   workers.RequireBatch(Bh, "training.batch_histories");
   GeneratorNet net(model.generator, plan.nodes);
@@ -108,14 +115,6 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   if (workers.distributed() && t.sync_batch_norm) net->set_batch_sync(&sync);
   std::vector<int64_t> node_parents(N);
   for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
-  // In the body's frame: each window (and its pseudo futures) turned as inference turns a history.
-  std::optional<UpAxis> body_up;
-  HeadingJoints heading_nodes;
-  if (!model.generator.body_frame.empty()) {
-    body_up = ParseUp(model.generator.body_frame);
-    const HeadingJoints j = FindHeadingJoints(skeleton).value();
-    heading_nodes = {j.left - 1, j.right - 1};
-  }
   const int iterations = t.windows_per_epoch / Bh;
   const auto start = std::chrono::steady_clock::now();
 
@@ -138,21 +137,19 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       torch::Tensor pseudo = torch::zeros({Bs, M, data.t_pred, N, 3});
       torch::Tensor mask = torch::zeros({Bs, M});
       std::vector<float> other(static_cast<size_t>(T) * N * 3);
-      std::vector<double> world_turn(body_up ? Bs : 0);  // the prior's view: the data's axes
+      std::vector<double> world_turn(data.up ? Bs : 0);  // the prior's view: the data's axes
       int64_t pseudo_futures = 0;                        // in the whole batch
       for (int w : picked) pseudo_futures += std::min<int64_t>(M, data.multimodal[w].size());
       for (int b = 0; b < Bs; ++b) {
         const int w = picked[share.begin + b];
         float* dst = truth.data_ptr<float>() + static_cast<size_t>(b) * T * N * 3;
+        // In the body's frame (Gather turns): the window, and each pseudo future in its own
+        // window's frame before it is retargeted (as BuildTrainingWindows matched them).
         data.Gather(w, dst);
-        // In the body's frame: the window, and each pseudo future in its own window's frame
-        // before it is retargeted (as BuildTrainingWindows matched them).
-        if (body_up)
-          world_turn[b] = -TurnToBodyFrame(dst, T, N, data.t_his, heading_nodes, *body_up);
+        if (data.up) world_turn[b] = -data.turn[w];
         const auto& mm = data.multimodal[w];
         for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
           data.Gather(mm[m], other.data());
-          if (body_up) TurnToBodyFrame(other.data(), T, N, data.t_his, heading_nodes, *body_up);
           RetargetFuture(
               other.data() + static_cast<size_t>(data.t_his) * N * 3,
               dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
@@ -175,9 +172,9 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
                       data.t_his};
       if (workers.distributed() && pseudo_futures > 0)
         batch.pseudo_norm = static_cast<double>(Bh) / (static_cast<double>(Bs) * pseudo_futures);
-      if (body_up) {
+      if (data.up) {
         batch.world_turn = std::move(world_turn);
-        std::tie(batch.ground_a, batch.ground_b) = GroundAxes(*body_up);
+        std::tie(batch.ground_a, batch.ground_b) = GroundAxes(*data.up);
       }
       const int64_t offset = std::uniform_int_distribution<int>(0, t.prior_frame_step - 1)(rng);
       const LossTerms terms =

@@ -22,6 +22,7 @@ void TrainingWindows::Gather(int w, float* out) const {
   const size_t frame = static_cast<size_t>(num_nodes) * 3;
   std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
               num_frames() * frame * sizeof(float));
+  if (up) RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes, turn[w], *up);
 }
 
 namespace {
@@ -53,36 +54,22 @@ float MeanJointDistanceTurned(const float* a, const float* b, int nodes, float c
   return sum / nodes;
 }
 
-// How each window is turned into the body's frame (none: all 0).
-struct WindowTurns {
-  std::optional<UpAxis> up;
-  std::vector<double> turn;  // per window, radians (TurnToBodyFrame's)
-};
-
-WindowTurns ComputeTurns(const TrainingWindows& tw, const std::string& body_frame,
-                         const Skeleton& skeleton) {
-  WindowTurns out;
-  out.turn.assign(tw.windows.size(), 0.0);
-  if (body_frame.empty()) return out;
-  out.up = ParseUp(body_frame);
-  const std::optional<HeadingJoints> j = FindHeadingJoints(skeleton);
-  if (!j) {
-    throw std::invalid_argument("training in the body's frame: skeleton '" + skeleton.name() +
-                                "' names no left/right joint pair to tell a heading by");
+// Fills tw's body frame: the up axis, the heading nodes and each window's turn.
+void ComputeTurns(const std::string& body_frame, const Skeleton& skeleton, TrainingWindows* tw) {
+  if (body_frame.empty()) return;
+  tw->up = ParseUp(body_frame);
+  tw->heading = HeadingNodes(skeleton);
+  const size_t frame = static_cast<size_t>(tw->num_nodes) * 3;
+  tw->turn.resize(tw->windows.size());
+  for (size_t w = 0; w < tw->windows.size(); ++w) {
+    const Window& win = tw->windows[w];
+    tw->turn[w] = -WindowHeading(tw->clip_poses[win.clip].data() + win.start * frame, tw->t_his,
+                                 tw->num_nodes, tw->t_his - 1, tw->heading, *tw->up);
   }
-  const HeadingJoints nodes{j->left - 1, j->right - 1};
-  const size_t frame = static_cast<size_t>(tw.num_nodes) * 3;
-  for (size_t w = 0; w < tw.windows.size(); ++w) {
-    const Window& win = tw.windows[w];
-    out.turn[w] = -WindowHeading(tw.clip_poses[win.clip].data() + win.start * frame, tw.t_his,
-                                 tw.num_nodes, tw.t_his - 1, nodes, *out.up);
-  }
-  return out;
 }
 
 std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
                                                     const MultimodalOptions& o,
-                                                    const WindowTurns& turns,
                                                     const std::function<void(double)>& progress) {
   const int W = static_cast<int>(tw.windows.size()), N = tw.num_nodes, D = N * 3;
   const size_t frame = static_cast<size_t>(D);
@@ -93,10 +80,10 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
     const Window& win = tw.windows[w];
     const float* p = tw.clip_poses[win.clip].data() + (win.start + tw.t_his - 1) * frame;
     std::copy(p, p + frame, pose.begin());
-    if (turns.up) RotateAboutUp(pose.data(), N, turns.turn[w], *turns.up);
+    if (tw.up) RotateAboutUp(pose.data(), N, tw.turn[w], *tw.up);
     for (int d = 0; d < D; ++d) last(w, d) = pose[d];
   }
-  const auto [ga, gb] = turns.up ? GroundAxes(*turns.up) : std::pair<int, int>{0, 2};
+  const auto [ga, gb] = tw.up ? GroundAxes(*tw.up) : std::pair<int, int>{0, 2};
   const Eigen::VectorXf sq = last.rowwise().squaredNorm();
   // Mean per-joint distance <= t implies vector L2 <= N * t: a cheap pre-filter by matrix products.
   const float l2_bound = static_cast<float>(N * o.last_pose_threshold);
@@ -117,11 +104,11 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
         const float d2 = sq[w] + sq[v] - 2 * dots(r, v);
         if (d2 > l2_bound * l2_bound) continue;
         // Window a's poses against window b's, each in its own frame: b turned by the difference.
-        const double turn = turns.up ? turns.turn[v] - turns.turn[w] : 0.0;
+        const double turn = tw.up ? tw.turn[v] - tw.turn[w] : 0.0;
         const float c = static_cast<float>(std::cos(turn)), sn = static_cast<float>(std::sin(turn));
         auto distance = [&](const float* a, const float* b) {
-          return turns.up ? MeanJointDistanceTurned(a, b, N, c, sn, ga, gb)
-                          : MeanJointDistance(a, b, N);
+          return tw.up ? MeanJointDistanceTurned(a, b, N, c, sn, ga, gb)
+                       : MeanJointDistance(a, b, N);
         };
         const Window& wb = tw.windows[v];
         const float* b_last = tw.clip_poses[wb.clip].data() + (wb.start + tw.t_his - 1) * frame;
@@ -212,11 +199,11 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   char name[64];
   std::snprintf(name, sizeof(name), "multimodal-%016llx.bin", static_cast<unsigned long long>(h));
   const std::string cache = cache_dir.empty() ? "" : (fs::path(cache_dir) / name).string();
+  ComputeTurns(body_frame, *dataset.skeleton.skeleton, &tw);
   if (!cache.empty() && ReadTrainingMultimodalCache(cache, tw.windows.size(), &tw.multimodal)) {
     return tw;
   }
-  tw.multimodal = ComputeMultimodal(
-      tw, options, ComputeTurns(tw, body_frame, *dataset.skeleton.skeleton), progress);
+  tw.multimodal = ComputeMultimodal(tw, options, progress);
   if (!cache.empty()) {
     std::string bytes;
     auto put = [&](const void* src, size_t n) { bytes.append(static_cast<const char*>(src), n); };

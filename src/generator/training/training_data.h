@@ -12,9 +12,11 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/heading.h"
 #include "dataset/dataset.h"
 #include "dataset/windows.h"
 #include "generator/model/training_options.h"
@@ -26,9 +28,14 @@ struct TrainingWindows {
   std::vector<std::vector<float>> clip_poses;    // per clip [T_c, N, 3], root-relative, no root
   std::vector<Window> windows;                   // (clip, start)
   std::vector<std::vector<int32_t>> multimodal;  // per window: indices of pseudo futures
+  // In the body's frame (else empty): the up axis, the heading nodes and per window the turn
+  // (radians) that brings it into the body's frame of its last history frame (TurnToBodyFrame's).
+  std::optional<UpAxis> up;
+  HeadingJoints heading;
+  std::vector<double> turn;
 
   int num_frames() const { return t_his + t_pred; }
-  // Copies window w's frames into out [T, N, 3].
+  // Copies window w's frames into out [T, N, 3], turned by turn[w] when in the body's frame.
   void Gather(int w, float* out) const;
 };
 

@@ -119,8 +119,7 @@ TrajectoryTrainSummary TrainTrajectory(const TrajectoryTrainOptions& o, const Mo
   src.t_pred = g.t_pred;
   src.joints = skeleton.num_joints();
   src.up = ParseUp(g.body_frame);
-  const HeadingJoints hj = FindHeadingJoints(skeleton).value();
-  src.heading = {hj.left - 1, hj.right - 1};
+  src.heading = HeadingNodes(skeleton);
   const std::vector<int> train = ds.ClipIndices(Split::kTrain);
   for (int c : train) src.clips.push_back(&ds.clips[c].motion);
   for (const Window& w : SlidingWindows(ds.ClipFrames(train), g.num_frames(), o.window_stride,
