@@ -111,6 +111,8 @@ void CheckTrainConfig(const GeneratorTrainConfig& c) {
   rule(t.prior_frame_step >= 1, "training.prior_frame_step must be >= 1");
   rule(t.threads >= 1, "training.threads must be >= 1");
   rule(c.multimodal.max_per_window >= 0, "multimodal.max_per_window must be >= 0");
+  rule(!c.multimodal.body_frame || c.body_frame,
+       "multimodal.body_frame needs generator.body_frame: true");
 }
 
 }  // namespace
@@ -147,6 +149,7 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
       o.last_pose_threshold = GetOr<double>(path, m, "last_pose_threshold", o.last_pose_threshold);
       o.future_min_distance = GetOr<double>(path, m, "future_min_distance", o.future_min_distance);
       o.max_per_window = GetOr<int>(path, m, "max_per_window", o.max_per_window);
+      o.body_frame = GetOr<bool>(path, m, "body_frame", o.body_frame);
     }
     TrainingOptions& t = c.training;
     t.samples_per_part = {10, 10};

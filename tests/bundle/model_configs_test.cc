@@ -69,6 +69,12 @@ TEST_CASE("a config's body frame and trajectory section parse; a trajectory alon
   CHECK(c.trajectory->epochs == 7);
   CHECK(c.trajectory->skating_weight == 0.5);
   CHECK(c.trajectory->n_out == TrajectoryTrainOptions{}.n_out);  // defaults stay
+  CHECK_FALSE(c.multimodal.body_frame);  // pseudo futures matched in the data's axes, as GSPS
+  std::ofstream(path) << head << "  body_frame: true\nmultimodal:\n  body_frame: true\n";
+  CHECK(LoadGeneratorTrainConfig(path).multimodal.body_frame);
+  std::ofstream(path) << head << "multimodal:\n  body_frame: true\n";
+  CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path),
+                    Catch::Contains("multimodal.body_frame needs generator.body_frame"));
   std::ofstream(path) << head << "trajectory:\n  hidden: 64\n";
   CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path), Catch::Contains("body_frame: true"));
   std::ofstream(path) << head << "  body_frame: true\ntrajectory:\n  epochs: 2\n"

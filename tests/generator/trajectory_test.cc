@@ -198,21 +198,51 @@ TEST_CASE("a trajectory needs a generator in the body's frame") {
 }
 
 TEST_CASE("in the body's frame a window's pseudo futures do not depend on which way it faced") {
-  // The same walks, turned a different way per clip or not at all: in the body's frame every
-  // window finds the same pseudo futures; in the data's own axes the turned walks find others.
+  // The same walks, turned a different way per clip or not at all: matched in the body's frame
+  // every window finds the same pseudo futures; in the data's own axes the turned walks find
+  // others, whether the generator works in the body's frame or not.
   MultimodalOptions o = testing::TinyConfig().multimodal;
   o.max_per_window = 1000;  // every candidate, so that the sets compare as sets
-  auto sets = [&](const Dataset& ds, const std::string& body_frame) {
+  auto sets = [&](const Dataset& ds, const std::string& body_frame, bool matched_in_body) {
+    o.body_frame = matched_in_body;
     std::vector<std::vector<int32_t>> out =
         BuildTrainingWindows(ds, 2, o, body_frame, "").multimodal;
     for (auto& s : out) std::sort(s.begin(), s.end());
     return out;
   };
   const Dataset plain = testing::SyntheticDataset(8, 60), turned = TurnedWalks(8, 60);
-  const auto body_plain = sets(plain, "y"), body_turned = sets(turned, "y");
+  const auto body_plain = sets(plain, "y", true), body_turned = sets(turned, "y", true);
   size_t pairs = 0;
   for (const auto& s : body_plain) pairs += s.size();
   CHECK(pairs > 0);
   CHECK(body_turned == body_plain);
-  CHECK(sets(turned, "") != sets(plain, ""));
+  CHECK(sets(turned, "", false) != sets(plain, "", false));
+  CHECK(sets(turned, "y", false) == sets(turned, "", false));
+  CHECK_THROWS_WITH(sets(plain, "", true), Catch::Contains("multimodal.body_frame needs"));
+}
+
+TEST_CASE("a pseudo window is gathered turned as it was matched") {
+  const Dataset ds = TurnedWalks(8, 60);
+  MultimodalOptions o = testing::TinyConfig().multimodal;
+  for (const bool in_body : {false, true}) {
+    o.body_frame = in_body;
+    const TrainingWindows tw = BuildTrainingWindows(ds, 2, o, "y", "");
+    REQUIRE(tw.up);
+    const size_t n = static_cast<size_t>(tw.num_frames()) * tw.num_nodes * 3;
+    std::vector<float> got(n), want(n);
+    int checked = 0;
+    for (int w = 0; w < static_cast<int>(tw.windows.size()) && checked < 20; ++w) {
+      if (tw.multimodal[w].empty()) continue;
+      const int v = tw.multimodal[w][0];
+      tw.GatherPseudo(w, 0, got.data());
+      // Window v as recorded, turned by its own turn or by window w's.
+      const Window& win = tw.windows[v];
+      const float* src = tw.clip_poses[win.clip].data() + win.start * tw.num_nodes * 3;
+      std::copy(src, src + n, want.begin());
+      RotateAboutUp(want.data(), n / 3, in_body ? tw.turn[v] : tw.turn[w], *tw.up);
+      for (size_t i = 0; i < n; ++i) REQUIRE(got[i] == Approx(want[i]).margin(1e-6));
+      ++checked;
+    }
+    CHECK(checked > 0);
+  }
 }

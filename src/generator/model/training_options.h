@@ -28,6 +28,9 @@ struct MultimodalOptions {
   double last_pose_threshold = 0.05;  // mean per-joint distance (m) between last history poses
   double future_min_distance = 0.1;   // mean per-joint distance (m) the futures must differ by
   int max_per_window = 10;
+  // For a generator in the body's frame: match (and retarget) the windows in each one's own body
+  // frame; false: in the data's axes, as GSPS, each pseudo future then turned with its window.
+  bool body_frame = false;
 };
 
 struct TrainingOptions {

@@ -143,13 +143,13 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       for (int b = 0; b < Bs; ++b) {
         const int w = picked[share.begin + b];
         float* dst = truth.data_ptr<float>() + static_cast<size_t>(b) * T * N * 3;
-        // In the body's frame (Gather turns): the window, and each pseudo future in its own
-        // window's frame before it is retargeted (as BuildTrainingWindows matched them).
+        // In the body's frame (Gather turns): the window, and each pseudo window as it was
+        // matched, before its future is retargeted onto this window's last pose.
         data.Gather(w, dst);
         if (data.up) world_turn[b] = -data.turn[w];
         const auto& mm = data.multimodal[w];
         for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
-          data.Gather(mm[m], other.data());
+          data.GatherPseudo(w, m, other.data());
           RetargetFuture(
               other.data() + static_cast<size_t>(data.t_his) * N * 3,
               dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,

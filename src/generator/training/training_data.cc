@@ -25,6 +25,18 @@ void TrainingWindows::Gather(int w, float* out) const {
   if (up) RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes, turn[w], *up);
 }
 
+void TrainingWindows::GatherPseudo(int w, int m, float* out) const {
+  const int v = multimodal.at(w).at(m);
+  const Window& win = windows.at(v);
+  const size_t frame = static_cast<size_t>(num_nodes) * 3;
+  std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
+              num_frames() * frame * sizeof(float));
+  if (up) {
+    RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes,
+                  multimodal_in_body_frame ? turn[v] : turn[w], *up);
+  }
+}
+
 namespace {
 
 // Mean over joints of the per-joint distance between poses a and b ([N, 3] each).
@@ -73,17 +85,18 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
                                                     const std::function<void(double)>& progress) {
   const int W = static_cast<int>(tw.windows.size()), N = tw.num_nodes, D = N * 3;
   const size_t frame = static_cast<size_t>(D);
-  // Last history poses [W, D], in the body's frame when there is one.
+  const bool in_body = tw.multimodal_in_body_frame;
+  // Last history poses [W, D], in each window's body frame when matched there.
   Eigen::MatrixXf last(W, D);
   std::vector<float> pose(frame);
   for (int w = 0; w < W; ++w) {
     const Window& win = tw.windows[w];
     const float* p = tw.clip_poses[win.clip].data() + (win.start + tw.t_his - 1) * frame;
     std::copy(p, p + frame, pose.begin());
-    if (tw.up) RotateAboutUp(pose.data(), N, tw.turn[w], *tw.up);
+    if (in_body) RotateAboutUp(pose.data(), N, tw.turn[w], *tw.up);
     for (int d = 0; d < D; ++d) last(w, d) = pose[d];
   }
-  const auto [ga, gb] = tw.up ? GroundAxes(*tw.up) : std::pair<int, int>{0, 2};
+  const auto [ga, gb] = in_body ? GroundAxes(*tw.up) : std::pair<int, int>{0, 2};
   const Eigen::VectorXf sq = last.rowwise().squaredNorm();
   // Mean per-joint distance <= t implies vector L2 <= N * t: a cheap pre-filter by matrix products.
   const float l2_bound = static_cast<float>(N * o.last_pose_threshold);
@@ -104,11 +117,11 @@ std::vector<std::vector<int32_t>> ComputeMultimodal(const TrainingWindows& tw,
         const float d2 = sq[w] + sq[v] - 2 * dots(r, v);
         if (d2 > l2_bound * l2_bound) continue;
         // Window a's poses against window b's, each in its own frame: b turned by the difference.
-        const double turn = tw.up ? tw.turn[v] - tw.turn[w] : 0.0;
+        const double turn = in_body ? tw.turn[v] - tw.turn[w] : 0.0;
         const float c = static_cast<float>(std::cos(turn)), sn = static_cast<float>(std::sin(turn));
         auto distance = [&](const float* a, const float* b) {
-          return tw.up ? MeanJointDistanceTurned(a, b, N, c, sn, ga, gb)
-                       : MeanJointDistance(a, b, N);
+          return in_body ? MeanJointDistanceTurned(a, b, N, c, sn, ga, gb)
+                         : MeanJointDistance(a, b, N);
         };
         const Window& wb = tw.windows[v];
         const float* b_last = tw.clip_poses[wb.clip].data() + (wb.start + tw.t_his - 1) * frame;
@@ -177,7 +190,13 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   std::ostringstream key;
   key << "mm1|" << dataset.protocol.name << "|" << stride << "|" << options.last_pose_threshold
       << "|" << options.future_min_distance << "|" << options.max_per_window;
-  if (!body_frame.empty()) key << "|body frame " << body_frame;
+  if (options.body_frame) {
+    if (body_frame.empty()) {
+      throw std::invalid_argument(
+          "training: multimodal.body_frame needs a generator in the body's frame");
+    }
+    key << "|body frame " << body_frame;
+  }
   for (int c : train) {
     const Clip& clip = dataset.clips[c];
     tw.clip_poses.push_back(PoseVectorsWithoutRoot(clip.motion));
@@ -200,6 +219,7 @@ TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
   std::snprintf(name, sizeof(name), "multimodal-%016llx.bin", static_cast<unsigned long long>(h));
   const std::string cache = cache_dir.empty() ? "" : (fs::path(cache_dir) / name).string();
   ComputeTurns(body_frame, *dataset.skeleton.skeleton, &tw);
+  tw.multimodal_in_body_frame = options.body_frame;
   if (!cache.empty() && ReadTrainingMultimodalCache(cache, tw.windows.size(), &tw.multimodal)) {
     return tw;
   }

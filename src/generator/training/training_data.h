@@ -5,9 +5,10 @@
 // history pose is within a mean per-joint distance of this one's and whose future differs by at
 // least a given mean per-joint distance; the closest ones first, up to a maximum. Built once and
 // cached (the cache key covers the clips and the options). For a generator in the body's frame
-// the poses are compared as that generator sees them: each window turned into the body's frame
-// of its last history frame (core/heading.h), so that a pose's pseudo futures do not depend on
-// which way it faced (training then retargets them in that frame too).
+// every window is turned into the body's frame of its last history frame (core/heading.h); its
+// pseudo futures are matched either in the data's axes, as GSPS (each then turned with the
+// window it serves), or with MultimodalOptions::body_frame each window in its own body frame, so
+// that a pose's pseudo futures do not depend on which way it faced.
 #pragma once
 
 #include <cstdint>
@@ -33,15 +34,20 @@ struct TrainingWindows {
   std::optional<UpAxis> up;
   HeadingJoints heading;
   std::vector<double> turn;
+  bool multimodal_in_body_frame = false;  // how `multimodal` was matched (MultimodalOptions)
 
   int num_frames() const { return t_his + t_pred; }
   // Copies window w's frames into out [T, N, 3], turned by turn[w] when in the body's frame.
   void Gather(int w, float* out) const;
+  // Copies window w's m-th pseudo multimodal window into out [T, N, 3] in the frame it was
+  // matched in, turned as window w is: by its own turn when matched in the body's frame, else
+  // by turn[w] (its poses as they stood beside window w's in the data's axes).
+  void GatherPseudo(int w, int m, float* out) const;
 };
 
 // body_frame: GeneratorOptions::body_frame ("" = the data's own axes; else the up axis, the
-// heading from the skeleton's FindHeadingJoints). progress(fraction) is called while the
-// multimodal sets are computed. cache_dir "" = no cache.
+// heading from the skeleton's FindHeadingJoints). options.body_frame needs it. progress(fraction)
+// is called while the multimodal sets are computed. cache_dir "" = no cache.
 TrainingWindows BuildTrainingWindows(const Dataset& dataset, int stride,
                                      const MultimodalOptions& options,
                                      const std::string& body_frame, const std::string& cache_dir,
