@@ -42,7 +42,9 @@ With --skeleton, the motion is mapped onto that skeleton's protocol joints (e.g.
 Bandai BVH to the 17 joints of the Bandai protocol). VideoPose3D .npz files are converted
 with tools/videopose3d_to_motionfork.py.)");
   AddInputFile(cmd, "IN", &o->in, "Input motion file");
-  cmd->add_option("OUT", o->out, "Output file (.npy or .csv); written all-or-nothing")
+  cmd->add_option("OUT,-o,--out", o->out,
+                  "Output file (.bvh, .npy or .csv), as the second argument or -o/--out (as the "
+                  "other commands take it); written all-or-nothing")
       ->required()
       ->check(OutputFile);
   AddMotionInputOptions(cmd, &o->input);

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "io/csv.h"
+#include "io/file_util.h"
 #include "io/npy.h"
 #include "run_motionfork.h"
 #include "test_support.h"
@@ -53,6 +54,11 @@ TEST_CASE("info and convert work on npy and csv, onto a named skeleton") {
                  " --skeleton bandai --fps 30 --resample 15");
   CHECK(r.status == 0);
   CHECK(r.output.find("20 frames at 15 Hz") != std::string::npos);
+  // The output as -o, the grammar of the other commands, gives the same file.
+  r = Motionfork("convert " + dir.file("walk.npy") + " -o " + dir.file("half2.csv") +
+                 " --skeleton bandai --fps 30 --resample 15");
+  CHECK(r.status == 0);
+  CHECK(ReadFileBytes(dir.file("half2.csv")) == ReadFileBytes(dir.file("half.csv")));
 }
 
 TEST_CASE("bad input exits with status 2 and names the file") {
