@@ -39,9 +39,10 @@ struct TrainingWindows {
   int num_frames() const { return t_his + t_pred; }
   // Copies window w's frames into out [T, N, 3], turned by turn[w] when in the body's frame.
   void Gather(int w, float* out) const;
-  // Copies window w's m-th pseudo multimodal window into out [T, N, 3] in the frame it was
-  // matched in, turned as window w is: by its own turn when matched in the body's frame, else
-  // by turn[w] (its poses as they stood beside window w's in the data's axes).
+  // Copies window multimodal[w][m] (a pseudo multimodal window of w) into out [T, N, 3] as it
+  // was matched beside window w: in the body's frame turned by its own turn when matched there,
+  // else by turn[w] (the two windows keep the headings they had to each other in the data's
+  // axes); as recorded when there is no body frame.
   void GatherPseudo(int w, int m, float* out) const;
 };
 
