@@ -77,6 +77,9 @@ void AddEvalCommand(CLI::App& app, GlobalOptions& global) {
                   "Evaluate this folder of .bvh/.npy/.csv files instead (training clips still "
                   "come from --data)")
       ->check(CLI::ExistingDirectory);
+  cmd->add_option("--turn", e.turn_degrees,
+                  "Turn the test clips by this many degrees about the protocol's up axis first "
+                  "(how the predictor fares on bodies facing another way; training clips stay)");
   cmd->add_option("-k", e.k, "Futures per history (K, >= 2; default 50)");
   AddDeprecatedOption(cmd, "--samples", "-k", &e.k);
   cmd->add_option("--seed", e.seed, "Seed (window i uses a mix of it and i)")->check(Seed);

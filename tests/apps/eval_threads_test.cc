@@ -106,3 +106,34 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
     CHECK(Figures(dir.file("1.json"))["optimisation_clips"].get<int>() == 2);
   }
 }
+
+TEST_CASE("eval --turn turns the test clips: a baseline blind to heading keeps its figures") {
+  const std::string data = motionfork::testing::SharedDataDir("data/bandai");
+  if (data.empty()) {
+    WARN("SKIPPED: ../shared/data/bandai not found");
+    return;
+  }
+  motionfork::testing::TempDir dir;
+  const std::string common =
+      "-q eval --protocol bandai --data " + data + " --split " + SmallSplit(data, dir) + " -k 20 ";
+  auto figures = [&](const std::string& args, const std::string& name) {
+    const Run r = Motionfork(common + args + " --json " + dir.file(name));
+    INFO(r.output);
+    REQUIRE(r.status == 0);
+    return Figures(dir.file(name));
+  };
+  // Zero velocity repeats the last pose: turned clips give the same distances, so the same
+  // figures. Nearest neighbours match turned histories against the training clips as recorded,
+  // which face the capture room's way: other neighbours, other figures.
+  const nlohmann::json zv = figures("--baseline zero-velocity", "zv.json");
+  const nlohmann::json zv90 = figures("--baseline zero-velocity --turn 90", "zv90.json");
+  CHECK(zv90["turn_degrees"].get<double>() == 90);
+  for (const char* m : {"ade", "fde", "mmade", "mmfde"})
+    CHECK(zv90[m].get<double>() == Approx(zv[m].get<double>()).epsilon(1e-5));
+  CHECK(zv90["root"]["fde"].get<double>() == Approx(zv["root"]["fde"].get<double>()).epsilon(1e-5));
+  const nlohmann::json nn = figures("--baseline nn", "nn.json");
+  const nlohmann::json nn90 = figures("--baseline nn --turn 90", "nn90.json");
+  CHECK(nn90["fde"].get<double>() > nn["fde"].get<double>() + 0.01);
+  const Run bad = Motionfork(common + "--baseline zero-velocity --turn nan");
+  CHECK(bad.status == 2);
+}

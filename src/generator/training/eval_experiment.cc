@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "bundle/generator_bundle.h"
@@ -12,6 +14,7 @@
 #include "config/protocol_config.h"
 #include "config/rig_config.h"
 #include "config/skeleton_config.h"
+#include "core/heading.h"
 #include "eval/baselines.h"
 #include "eval/clip_folder.h"
 #include "eval/test_set.h"
@@ -56,6 +59,9 @@ void Validate(const EvalExperimentOptions& o) {
   }
   if (o.data.empty() && o.clips.empty()) {
     throw std::invalid_argument("give --data DIR (the protocol's dataset) and/or --clips DIR");
+  }
+  if (!std::isfinite(o.turn_degrees)) {
+    throw std::invalid_argument("--turn: expected degrees, got " + std::to_string(o.turn_degrees));
   }
   if (!o.model.empty()) LoadForecaster(o.model);  // fail before loading anything
   if (IsNearestNeighbours(o) && o.data.empty()) throw std::invalid_argument(kNeedsData);
@@ -176,8 +182,31 @@ struct TestClips {
   Dataset dataset;  // --data (training clips; test clips unless --clips)
   ClipFolder folder;
   std::vector<const Clip*> test;
+  std::vector<Clip> turned;  // --turn: copies of the test clips, turned
   std::string source;
 };
+
+// Turns every test clip by `degrees` about the protocol's up axis (copies; the test pointers
+// move to them).
+void TurnTestClips(double degrees, const ProtocolOptions& protocol, TestClips* clips) {
+  if (protocol.up.empty()) {
+    throw std::invalid_argument("--turn: protocol '" + protocol.name +
+                                "' declares no up axis to turn the clips about");
+  }
+  const auto [axis, sign] = ParseUpAxis(protocol.up);
+  clips->turned.reserve(clips->test.size());
+  for (const Clip*& c : clips->test) {
+    Clip turned = *c;
+    Motion& m = turned.motion;
+    RotateAboutUp(m.mutable_frame(0), static_cast<size_t>(m.num_frames()) * m.num_joints(),
+                  degrees * M_PI / 180.0, UpAxis{axis, sign});
+    clips->turned.push_back(std::move(turned));
+    c = &clips->turned.back();
+  }
+  std::ostringstream turn;
+  turn << ", turned " << degrees << " degrees about " << protocol.up;
+  clips->source += turn.str();
+}
 
 void LoadTestClips(const EvalExperimentOptions& o, const ProtocolOptions& protocol,
                    const SkeletonConfig& skeleton, TestClips* out) {
@@ -244,6 +273,7 @@ std::vector<std::string> DifferencesFromPublished(const EvalExperimentOptions& o
   if (o.k != 50) out.push_back("K = " + std::to_string(o.k));
   if (!x.result.fixed_part.empty()) out.push_back("a fixed part");
   if (!o.clips.empty()) out.push_back("a clips folder");
+  if (o.turn_degrees != 0) out.push_back("turned clips");
   if (o.subset != "test") out.push_back("the '" + o.subset + "' clips");
   if (!o.split_file.empty()) out.push_back("another split file");
   return out;
@@ -284,6 +314,7 @@ EvalExperiment RunEvalExperiment(const EvalExperimentOptions& o) {
   auto start = Clock::now();
   TestClips clips;
   LoadTestClips(o, protocol, skeleton, &clips);
+  if (o.turn_degrees != 0) TurnTestClips(o.turn_degrees, protocol, &clips);
   std::vector<const Motion*> training;
   for (const Clip& c : clips.dataset.clips) {
     if (c.split == Split::kTrain) training.push_back(&c.motion);

@@ -28,6 +28,8 @@ struct EvalExperimentOptions {
   std::string split_file;            // overrides the protocol's split file; "" = the protocol's
   std::string clips;                 // evaluate this folder of motion files instead; "" = data
   ClipConform conform_clips;         // how their joints reach the skeleton (eval/clip_folder.h)
+  double turn_degrees = 0;           // the test clips turned about the protocol's up axis first
+                                     // (which way they face; training clips stay as recorded)
   int k = 50;                        // futures per history, >= 2
   ConstantVelocityOptions velocity;  // constant-velocity (eval/baselines.h)
   uint64_t seed = 0;

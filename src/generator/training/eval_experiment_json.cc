@@ -58,6 +58,7 @@ json EvalExperimentJson(const EvalExperimentOptions& o, const EvalExperiment& x)
       {"test_include_last", p.test_include_last},
       {"split", from_clips ? json() : json(o.subset)},
       {"clips_dir", from_clips ? json(o.clips) : json()},
+      {"turn_degrees", o.turn_degrees},
       {"clips", x.clips},
       {"windows", x.windows},
       {"windows_evaluated", r.overall.windows},
