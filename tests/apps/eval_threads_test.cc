@@ -52,17 +52,24 @@ void CheckSameFigures(const std::string& command, const motionfork::testing::Tem
   CHECK(one.dump() == two.dump());
 }
 
+// `eval` on the Bandai data with the small split in dir and K = 20, up to the predictor; "" when
+// the data is not there.
+std::string SmallEval(const motionfork::testing::TempDir& dir) {
+  const std::string data = motionfork::testing::SharedDataDir("data/bandai");
+  if (data.empty()) return "";
+  return "-q eval --protocol bandai --data " + data + " --split " + SmallSplit(data, dir) +
+         " -k 20 ";
+}
+
 }  // namespace
 
 TEST_CASE("eval with 1 and 2 threads writes identical figures") {
-  const std::string data = motionfork::testing::SharedDataDir("data/bandai");
-  if (data.empty()) {
+  motionfork::testing::TempDir dir;
+  const std::string common = SmallEval(dir);
+  if (common.empty()) {
     WARN("SKIPPED: ../shared/data/bandai not found");
     return;
   }
-  motionfork::testing::TempDir dir;
-  const std::string common =
-      "-q eval --protocol bandai --data " + data + " --split " + SmallSplit(data, dir) + " -k 20 ";
   for (const std::string& predictor :
        {std::string("--model ") + MOTIONFORK_SOURCE_DIR + "/models/bandai",
         std::string("--baseline nn"), std::string("--baseline constant-velocity")}) {
@@ -108,14 +115,12 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
 }
 
 TEST_CASE("eval --turn turns the test clips: a baseline blind to heading keeps its figures") {
-  const std::string data = motionfork::testing::SharedDataDir("data/bandai");
-  if (data.empty()) {
+  motionfork::testing::TempDir dir;
+  const std::string common = SmallEval(dir);
+  if (common.empty()) {
     WARN("SKIPPED: ../shared/data/bandai not found");
     return;
   }
-  motionfork::testing::TempDir dir;
-  const std::string common =
-      "-q eval --protocol bandai --data " + data + " --split " + SmallSplit(data, dir) + " -k 20 ";
   auto figures = [&](const std::string& args, const std::string& name) {
     const Run r = Motionfork(common + args + " --json " + dir.file(name));
     INFO(r.output);
