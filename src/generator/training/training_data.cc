@@ -17,24 +17,20 @@ namespace motionfork {
 
 namespace fs = std::filesystem;
 
-void TrainingWindows::Gather(int w, float* out) const {
-  const Window& win = windows.at(w);
-  const size_t frame = static_cast<size_t>(num_nodes) * 3;
-  std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
-              num_frames() * frame * sizeof(float));
-  if (up) RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes, turn[w], *up);
-}
-
-void TrainingWindows::GatherPseudo(int w, int m, float* out) const {
-  const int v = multimodal.at(w).at(m);
+void TrainingWindows::CopyTurned(int v, double angle, float* out) const {
   const Window& win = windows.at(v);
   const size_t frame = static_cast<size_t>(num_nodes) * 3;
   std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
               num_frames() * frame * sizeof(float));
-  if (up) {
-    RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes,
-                  multimodal_in_body_frame ? turn[v] : turn[w], *up);
-  }
+  if (up) RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes, angle, *up);
+}
+
+void TrainingWindows::Gather(int w, float* out) const { CopyTurned(w, up ? turn[w] : 0.0, out); }
+
+void TrainingWindows::GatherPseudo(int w, int m, float* out) const {
+  const int v = multimodal.at(w).at(m);
+  const double angle = !up ? 0.0 : multimodal_in_body_frame ? turn[v] : turn[w];
+  CopyTurned(v, angle, out);
 }
 
 namespace {
@@ -70,13 +66,13 @@ float MeanJointDistanceTurned(const float* a, const float* b, int nodes, float c
 void ComputeTurns(const std::string& body_frame, const Skeleton& skeleton, TrainingWindows* tw) {
   if (body_frame.empty()) return;
   tw->up = ParseUp(body_frame);
-  tw->heading = HeadingNodes(skeleton);
+  const HeadingJoints heading = HeadingNodes(skeleton);
   const size_t frame = static_cast<size_t>(tw->num_nodes) * 3;
   tw->turn.resize(tw->windows.size());
   for (size_t w = 0; w < tw->windows.size(); ++w) {
     const Window& win = tw->windows[w];
     tw->turn[w] = -WindowHeading(tw->clip_poses[win.clip].data() + win.start * frame, tw->t_his,
-                                 tw->num_nodes, tw->t_his - 1, tw->heading, *tw->up);
+                                 tw->num_nodes, tw->t_his - 1, heading, *tw->up);
   }
 }
 

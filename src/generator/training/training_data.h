@@ -29,10 +29,9 @@ struct TrainingWindows {
   std::vector<std::vector<float>> clip_poses;    // per clip [T_c, N, 3], root-relative, no root
   std::vector<Window> windows;                   // (clip, start)
   std::vector<std::vector<int32_t>> multimodal;  // per window: indices of pseudo futures
-  // In the body's frame (else empty): the up axis, the heading nodes and per window the turn
-  // (radians) that brings it into the body's frame of its last history frame (TurnToBodyFrame's).
+  // In the body's frame (else empty): the up axis and per window the turn (radians) that brings
+  // it into the body's frame of its last history frame (TurnToBodyFrame's).
   std::optional<UpAxis> up;
-  HeadingJoints heading;
   std::vector<double> turn;
   bool multimodal_in_body_frame = false;  // how `multimodal` was matched (MultimodalOptions)
 
@@ -44,6 +43,10 @@ struct TrainingWindows {
   // else by turn[w] (the two windows keep the headings they had to each other in the data's
   // axes); as recorded when there is no body frame.
   void GatherPseudo(int w, int m, float* out) const;
+
+ private:
+  // Copies window v's frames into out [T, N, 3], turned by `angle` when in the body's frame.
+  void CopyTurned(int v, double angle, float* out) const;
 };
 
 // body_frame: GeneratorOptions::body_frame ("" = the data's own axes; else the up axis, the
