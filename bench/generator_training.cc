@@ -1,6 +1,11 @@
 // Benchmark: one GSPS training step with every loss, at the issue's Human3.6M sizes, one thread.
 //
-//   bench_generator_training [--threads N] [--steps S] [--warmup W]
+//   bench_generator_training [--threads N] [--steps S] [--warmup W] [--precision fp32|bf16|ab]
+//
+// --precision bf16: the residual blocks' products (forward and backward) with bf16 inputs and
+// float32 sums (training.precision, issue 30; needs AVX512-BF16); ab: steps alternate between
+// fp32 and bf16 (S steps of each after W warm-up steps of each), and the ratio of the medians is
+// printed: the A/B comparison within one run.
 //
 // 16 histories x 100 futures (10 x 10 nested samples per part), 16 nodes, t_his 25, t_pred 100,
 // n_pre 10, hidden 256, 4 blocks, nz 64, two parts (the h36m skeleton's default partition); the
@@ -33,6 +38,7 @@
 #include "constraints/torch/angle_penalty.h"
 #include "flow/flow_module.h"
 #include "flow/pose_prior.h"
+#include "generator/kernels/precision.h"
 #include "generator/model/generator_net.h"
 #include "generator/model/latents.h"
 #include "generator/training/losses.h"
@@ -63,11 +69,27 @@ int main(int argc, char** argv) {
   UseFastBlasKernels(argv);
   KeepFreedMemory();
   int threads = 1, steps = 3, warmup = 3;
+  std::string precision = "fp32";
   for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--precision") && i + 1 < argc) precision = argv[++i];
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::max(1, std::atoi(argv[++i]));
     if (!std::strcmp(argv[i], "--warmup") && i + 1 < argc)
       warmup = std::max(0, std::atoi(argv[++i]));
+  }
+  if (precision != "fp32" && precision != "bf16" && precision != "ab") {
+    std::fprintf(stderr, "--precision: expected fp32, bf16 or ab, got '%s'\n", precision.c_str());
+    return 2;
+  }
+  if (precision != "fp32" && !Bf16ProductsAvailable()) {
+    std::fprintf(stderr, "--precision %s: no AVX512-BF16 kernel on this CPU or build\n",
+                 precision.c_str());
+    return 2;
+  }
+  const bool ab = precision == "ab";
+  if (ab) {
+    warmup *= 2;
+    steps *= 2;
   }
   PinThreads(threads);
   torch::manual_seed(0);
@@ -113,11 +135,14 @@ int main(int argc, char** argv) {
   std::vector<int64_t> node_parents(N);
   for (int64_t n = 0; n < N; ++n) node_parents[n] = skeleton->parent(static_cast<int>(n) + 1) - 1;
   at::Generator gen = MakeGenerator(0);
-  std::printf("training step: %lld histories x %lld futures, one thread: %d\n",
+  std::printf("training step: %lld histories x %lld futures, threads: %d, products: %s\n",
               static_cast<long long>(Bh), static_cast<long long>(per_part[0] * per_part[1]),
-              threads);
+              threads, ab ? "fp32 and bf16 in turns" : precision.c_str());
   std::vector<double> forward, losses, backward, update, total, prior_time, angle_time;
+  std::vector<double> totals[2];  // ab: fp32, bf16
   for (int s = 0; s < warmup + steps; ++s) {
+    const bool bf16 = ab ? s % 2 == 1 : precision == "bf16";
+    net->set_bf16_products(bf16);
     const torch::Tensor truth = torch::randn({Bh, T, N, 3}) * 0.2;
     const torch::Tensor pseudo = torch::randn({Bh, M, o.t_pred, N, 3}) * 0.2;
     const torch::Tensor mask = torch::ones({Bh, M});
@@ -152,8 +177,9 @@ int main(int argc, char** argv) {
     const double t_update = Seconds(t3);
     rusage ru1;
     getrusage(RUSAGE_SELF, &ru1);
-    std::printf("step %d%s: %.2f s, %ld page faults, %.2f s in the kernel\n", s,
-                s < warmup ? " (warm-up)" : "", Seconds(t0), ru1.ru_minflt - ru0.ru_minflt,
+    std::printf("step %d%s%s: %.2f s, %ld page faults, %.2f s in the kernel\n", s,
+                bf16 ? " bf16" : " fp32", s < warmup ? " (warm-up)" : "", Seconds(t0),
+                ru1.ru_minflt - ru0.ru_minflt,
                 (ru1.ru_stime.tv_sec - ru0.ru_stime.tv_sec) +
                     1e-6 * (ru1.ru_stime.tv_usec - ru0.ru_stime.tv_usec));
     std::fflush(stdout);
@@ -165,6 +191,12 @@ int main(int argc, char** argv) {
     backward.push_back(t_backward);
     update.push_back(t_update);
     total.push_back(Seconds(t0));
+    totals[bf16].push_back(total.back());
+  }
+  if (ab) {
+    const double a = Median(totals[0]), b = Median(totals[1]);
+    std::printf("A/B, %zu steps each: fp32 %.3f s, bf16 %.3f s median; bf16 %.2fx fp32's speed\n",
+                totals[0].size(), a, b, a / b);
   }
   std::printf("generator forward: %.2f s\n", Median(forward));
   std::printf("losses (incl. prior NLL and angle penalty): %.2f s\n", Median(losses));

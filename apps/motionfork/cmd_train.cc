@@ -21,6 +21,8 @@ namespace {
 struct TrainOptions {
   std::string config;
   TrainingRunFlags run;
+  Precision precision = Precision::kFp32;
+  CLI::Option* precision_flag = nullptr;  // given: replaces the config's training.precision
 };
 
 // Per-step progress bar and per-epoch lines.
@@ -43,8 +45,12 @@ void RunTrain(const TrainOptions& o, GlobalOptions& g) {
   const std::string config_path = ResolveConfigPath(config_dir, "models", o.config);
   GeneratorTrainConfig cfg = LoadGeneratorTrainConfig(config_path);
   if (run.epochs > 0) OverrideEpochs(&cfg.training, run.epochs);
-  if (IsRankZero())  // before the data: a refused folder costs nothing
-    RecordTrainingConfig(run.out, config_path, run.split_file, run.epochs);
+  const bool precision_given = o.precision_flag->count() > 0;
+  if (precision_given) cfg.training.precision = o.precision;
+  ResolvePrecision(cfg.training.precision);  // bf16 on a CPU without it: refused before the data
+  if (IsRankZero())                          // before the data: a refused folder costs nothing
+    RecordTrainingConfig(run.out, config_path, run.split_file, run.epochs,
+                         precision_given ? PrecisionName(o.precision) : "");
   // A prior the config names that is not there yet (a user's own dataset): trained first, where
   // the config names it, on the same data and split (configs/models/flow_prior.yaml).
   if (!cfg.prior.empty() && !PriorBundleExists(cfg.prior, config_dir)) {
@@ -95,6 +101,11 @@ section then trains the trajectory network into OUT/trajectory/ (once).)");
   cmd->add_option("--config", o->config, "Model config name (configs/models/) or YAML path")
       ->required();
   AddTrainingRunOptions(cmd, &o->run, "Output folder (bundle, log, checkpoint)");
+  o->precision_flag = AddPrecisionOption(
+      cmd, &o->precision,
+      "The residual blocks' products, forward and backward: fp32, bf16 (bfloat16 inputs, float32 "
+      "sums; needs AVX512-BF16) or auto (bf16 where the CPU has it); replaces the config's "
+      "training.precision (default fp32)");
 }
 
 }  // namespace motionfork::app

@@ -106,11 +106,14 @@ void AddThreadsOption(CLI::App* cmd, int* threads) {
       ->check(PositiveNumber);
 }
 
-void AddPrecisionOption(CLI::App* cmd, Precision* precision) {
-  cmd->add_option_function<std::string>(
-         "--precision", [precision](const std::string& s) { *precision = ParsePrecision(s); },
-         "The generator's products: fp32 (default), bf16 (bfloat16 inputs, float32 sums; needs "
-         "AVX512-BF16) or auto (bf16 where the CPU has it); RESULTS.md gives bf16's accuracy")
+CLI::Option* AddPrecisionOption(CLI::App* cmd, Precision* precision, const std::string& help) {
+  return cmd
+      ->add_option_function<std::string>(
+          "--precision", [precision](const std::string& s) { *precision = ParsePrecision(s); },
+          !help.empty() ? help
+                        : "The generator's products: fp32 (default), bf16 (bfloat16 inputs, "
+                          "float32 sums; needs AVX512-BF16) or auto (bf16 where the CPU has it); "
+                          "RESULTS.md gives bf16's accuracy")
       ->check(CLI::IsMember({"fp32", "bf16", "auto"}));
 }
 

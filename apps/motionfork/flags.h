@@ -8,7 +8,7 @@
 #include <string>
 
 #include "commands.h"
-#include "generator/inference/precision.h"
+#include "generator/kernels/precision.h"
 #include "launch/worker_launcher.h"
 #include "launch/worker_place.h"
 
@@ -95,8 +95,9 @@ CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& h
 // --threads N: threads sharing the windows (0, the default, = every core; experiment_common.h
 // WindowThreads).
 void AddThreadsOption(CLI::App* cmd, int* threads);
-// --precision fp32|bf16|auto (generator/inference/precision.h).
-void AddPrecisionOption(CLI::App* cmd, Precision* precision);
+// --precision fp32|bf16|auto (generator/kernels/precision.h).
+// help: "" = the generator's products at inference (fp32 the default).
+CLI::Option* AddPrecisionOption(CLI::App* cmd, Precision* precision, const std::string& help = "");
 // --forecaster BUNDLE, --forecast-windows N, -k K: the forecasting figures of the history-repair
 // experiments.
 void AddForecasterOptions(CLI::App* cmd, std::string* forecaster, int* windows, int* k,

@@ -15,6 +15,7 @@
 #include "config/yaml_util.h"
 #include "core/error.h"
 #include "core/heading.h"
+#include "generator/kernels/precision.h"
 
 namespace motionfork {
 
@@ -166,6 +167,13 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
       t.seed = GetOr<uint64_t>(path, n, "seed", t.seed);
       t.threads = GetOr<int>(path, n, "threads", t.threads);
       t.sync_batch_norm = GetOr<bool>(path, n, "sync_batch_norm", t.sync_batch_norm);
+      if (n["precision"]) {
+        try {
+          t.precision = ParsePrecision(Get<std::string>(path, n, "precision"));
+        } catch (const std::invalid_argument& e) {
+          Fail(path, n["precision"], std::string("training.") + e.what());
+        }
+      }
     }
     if (const YAML::Node n = root["trajectory"]) {
       TrajectoryTrainOptions o;

@@ -132,6 +132,17 @@ TEST_CASE(
   REQUIRE(r.status == 0);
   CHECK(log_rows() == 4);
   CHECK_THAT(ReadFileBytes(out + "/training.yaml"), Contains("--epochs 3 on the command line"));
+  // --precision too (auto: bf16 products where the CPU has them), recorded; a bad value refused.
+  r = Motionfork("-q " + same + " --epochs 4 --precision auto");
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  CHECK(log_rows() == 5);
+  CHECK_THAT(ReadFileBytes(out + "/training.yaml"),
+             Contains("--precision auto on the command line replaced training.precision"));
+  r = Motionfork("-q " + same + " --epochs 5 --precision fp16");
+  CHECK(r.status != 0);
+  CHECK_THAT(r.output, Contains("--precision") && Contains("fp16"));
+  CHECK(log_rows() == 5);
 
   // The bundle predicts; without --split the protocol's own split is recorded.
   r = Motionfork("predict --model " + out + " --history " + data + "/walk_c.bvh -k 3 --seed 1 -o " +

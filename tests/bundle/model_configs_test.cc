@@ -4,6 +4,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
@@ -80,4 +82,20 @@ TEST_CASE("a config's body frame and trajectory section parse; a trajectory alon
   std::ofstream(path) << head << "  body_frame: true\ntrajectory:\n  epochs: 2\n"
                       << "  lr_constant_epochs: 5\n";
   CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path), Catch::Contains("lr_constant_epochs"));
+}
+
+TEST_CASE("a config's training.precision parses; anything else is refused naming file and key") {
+  testing::TempDir dir;
+  const auto path = (dir.path() / "walker.yaml").string();
+  const std::string head = "name: walker\nprotocol: bandai\ngenerator:\n  n_pre: 8\ntraining:\n";
+  CHECK(Shipped("bandai").training.precision == Precision::kFp32);  // the default
+  for (const auto& [text, want] : std::vector<std::pair<std::string, Precision>>{
+           {"fp32", Precision::kFp32}, {"bf16", Precision::kBf16}, {"auto", Precision::kAuto}}) {
+    std::ofstream(path) << head << "  precision: " << text << "\n";
+    CHECK(LoadGeneratorTrainConfig(path).training.precision == want);
+  }
+  std::ofstream(path) << head << "  precision: fp16\n";
+  CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path),
+                    Catch::Contains("walker.yaml") && Catch::Contains("training.precision") &&
+                        Catch::Contains("expected fp32, bf16 or auto, got 'fp16'"));
 }

@@ -13,7 +13,7 @@
 #include "bundle/generator_bundle.h"
 #include "eval/evaluate.h"
 #include "eval/test_set.h"
-#include "generator/inference/precision.h"
+#include "generator/kernels/precision.h"
 #include "generator/training/generator_predictor.h"
 #include "test_support.h"
 

@@ -14,7 +14,7 @@
 #include "constraints/constraint_spec.h"
 #include "core/heading.h"
 #include "core/motion.h"
-#include "generator/inference/precision.h"
+#include "generator/kernels/precision.h"
 #include "generator/model/generator_options.h"
 
 namespace motionfork {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "generator/model/bf16_matmul.h"
 #include "generator/model/fused_ops.h"
 
 namespace motionfork {
@@ -26,7 +27,9 @@ torch::Tensor GraphConvImpl::forward(const torch::Tensor& x, const torch::Tensor
 
 torch::Tensor GraphConvImpl::Mix(const torch::Tensor& x, const torch::Tensor& z) {
   const int64_t N = x.size(0), B = x.size(1), out = weight.size(1);
-  torch::Tensor support = x.reshape({N * B, x.size(2)}).mm(weight).view({N, B, out});
+  const torch::Tensor rows = x.reshape({N * B, x.size(2)});
+  torch::Tensor support =
+      (bf16_products ? Bf16MatMul(rows, weight) : rows.mm(weight)).view({N, B, out});
   // In place: the product's backward pass does not need its result.
   if (z.defined()) support.add_(z.mm(shared_weight).unsqueeze(0));
   // The node mix A x over node-major rows: one product of [N, N] and [N, B * out].

@@ -24,6 +24,8 @@ class GraphConvImpl : public torch::nn::Module {
   torch::Tensor Mix(const torch::Tensor& x, const torch::Tensor& z = {});
 
   torch::Tensor weight, shared_weight, adjacency, bias;
+  // X W with bfloat16 inputs and float32 sums (model/bf16_matmul.h; training, issue 30).
+  bool bf16_products = false;
 };
 TORCH_MODULE(GraphConv);
 

@@ -95,6 +95,15 @@ void GeneratorNetImpl::set_batch_sync(const BatchSync* sync) {
   }
 }
 
+void GeneratorNetImpl::set_bf16_products(bool on) {
+  for (const auto& module : modules()) {
+    if (auto* block = module->as<ResidualBlockImpl>()) {
+      block->first->conv->bf16_products = on;
+      block->second->conv->bf16_products = on;
+    }
+  }
+}
+
 torch::Tensor GeneratorNetImpl::Frames(const torch::Tensor& coeffs) const {
   const int64_t N = coeffs.size(0), B = coeffs.size(1), n = options_.n_pre;
   // Reorder the (small) coefficients, not the (large) frames: the result is contiguous, which

@@ -58,6 +58,11 @@ class GeneratorNetImpl : public torch::nn::Module {
   // alone. Not owned: it must outlive the training.
   void set_batch_sync(const BatchSync* sync);
 
+  // Training with bf16 products (issue 30, training.precision): the H x H products of every
+  // residual block (forward and backward) take bfloat16 inputs and keep float32 sums
+  // (model/bf16_matmul.h); false: float32 throughout. The input and output layers stay float32.
+  void set_bf16_products(bool on);
+
   const GeneratorOptions& options() const { return options_; }
   int64_t num_parts() const { return static_cast<int64_t>(parts_.size()); }
   const std::vector<std::vector<int64_t>>& part_nodes() const { return part_nodes_; }

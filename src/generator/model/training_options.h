@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "generator/kernels/precision.h"
 #include "generator/model/generator_options.h"
 
 namespace motionfork {
@@ -49,6 +50,10 @@ struct TrainingOptions {
   // batch-normalised layer, forward and backward), so that the run takes one worker's steps;
   // false: each worker normalises its own share (PyTorch DDP's default, no extra traffic).
   bool sync_batch_norm = true;
+  // The residual blocks' products, forward and backward (issue 30): fp32; bf16 (bfloat16 inputs,
+  // float32 sums, needs AVX512-BF16); auto (bf16 where the CPU has it). `train --precision`
+  // replaces it for one run.
+  Precision precision = Precision::kFp32;
 };
 
 // The trajectory network's training (configs/models/*.yaml, section `trajectory`; issue 27): after

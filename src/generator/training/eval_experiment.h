@@ -14,7 +14,7 @@
 #include "eval/baselines.h"
 #include "eval/clip_folder.h"
 #include "eval/evaluate.h"
-#include "generator/inference/precision.h"
+#include "generator/kernels/precision.h"
 
 namespace motionfork {
 

@@ -12,6 +12,7 @@
 #include "bodyparts/part_plan.h"
 #include "bundle/generator_net_bundle.h"
 #include "core/heading.h"
+#include "generator/kernels/precision.h"
 #include "generator/model/fused_ops.h"
 #include "generator/model/latents.h"
 #include "launch/worker_place.h"
@@ -113,6 +114,11 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
   BatchSync sync{[&workers](std::vector<double>* v) { workers.SumValues(v, "batch statistics"); },
                  weight};
   if (workers.distributed() && t.sync_batch_norm) net->set_batch_sync(&sync);
+  // bf16 products where the config asks (an error naming the missing feature where it cannot).
+  const bool bf16 = ResolvePrecision(t.precision) == Precision::kBf16;
+  net->set_bf16_products(bf16);
+  if (bf16 && cb.message && workers.writes())
+    cb.message("products:  the residual blocks' in bf16 (AVX512-BF16), float32 sums");
   std::vector<int64_t> node_parents(N);
   for (int n = 0; n < N; ++n) node_parents[n] = skeleton.parent(n + 1) - 1;
   const int iterations = t.windows_per_epoch / Bh;

@@ -42,7 +42,7 @@ std::string WithoutTrajectorySection(const std::string& config) {
 }  // namespace
 
 void RecordTrainingConfig(const std::string& out, const std::string& config_path,
-                          const std::string& split_file, int epochs) {
+                          const std::string& split_file, int epochs, const std::string& precision) {
   static const std::string kConfigMark = "# --- the config file as read ---\n";
   const std::string body = ReadFileBytes(config_path);
   const std::string split_line = "# split: " + TrainingSplitName(split_file) + "\n";
@@ -73,6 +73,9 @@ void RecordTrainingConfig(const std::string& out, const std::string& config_path
         "# --epochs " + std::to_string(epochs) +
         " on the command line replaced training.epochs (and scaled lr_constant_epochs with it: "
         "the same share of the run).\n";
+  }
+  if (!precision.empty()) {
+    header += "# --precision " + precision + " on the command line replaced training.precision.\n";
   }
   if (trained && !fs::is_regular_file(recorded)) {
     header += "# Recorded when resuming: the config of the earlier epochs was not recorded.\n";

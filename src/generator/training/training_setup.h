@@ -25,8 +25,10 @@ void OverrideEpochs(TrainingOptions* training, int epochs);
 // A config that differs only in its `trajectory` section is the same recipe (that section trains
 // after the generator's last epoch: adding one to a finished run's config trains it).
 // Call before any data is read.
+// precision: what `--precision` replaced training.precision with ("" = not given).
 void RecordTrainingConfig(const std::string& out, const std::string& config_path,
-                          const std::string& split_file, int epochs);
+                          const std::string& split_file, int epochs,
+                          const std::string& precision = "");
 
 // The folder of the prior bundle a config names: as given (relative to the working folder), else
 // relative to the source tree's root (config_dir's parent) when that exists.

@@ -1,4 +1,4 @@
-#include "generator/inference/precision.h"
+#include "generator/kernels/precision.h"
 
 #include <stdexcept>
 
