@@ -1,7 +1,5 @@
 // Training with bf16 products (issue 30): the differentiable product (model/bf16_matmul.h) and a
 // generator trained with it (training.precision).
-#include "generator/model/bf16_matmul.h"
-
 #include <cstdlib>
 #include <map>
 #include <tuple>
@@ -11,6 +9,7 @@
 #include "generator/kernels/bf16_product.h"
 #include "generator/kernels/cpu_features.h"
 #include "generator/kernels/precision.h"
+#include "generator/model/bf16_matmul.h"
 #include "generator/training/training.h"
 #include "synthetic_training.h"
 #include "test_support.h"
@@ -30,9 +29,7 @@ bool Bf16OrSkip() {
   return false;
 }
 
-torch::Tensor Rounded(const torch::Tensor& t) {
-  return t.to(torch::kBFloat16).to(torch::kDouble);
-}
+torch::Tensor Rounded(const torch::Tensor& t) { return t.to(torch::kBFloat16).to(torch::kDouble); }
 
 // The product and both gradients against the exact sums (double) of the bf16-rounded inputs,
 // within float32 summation (relative 1e-5 of the sum of |terms|), for shapes that do and do not
@@ -109,8 +106,8 @@ TEST_CASE("training with bf16 products lowers the losses as float32 training doe
   const auto &fp32 = runs["fp32"], &bf16 = runs["bf16"];
   for (size_t k = 0; k < fp32[0].size(); ++k) {
     const std::string& name = fp32[0][k].first;
-    INFO(name << ": fp32 " << fp32.front()[k].second << " -> " << fp32.back()[k].second
-              << ", bf16 " << bf16.front()[k].second << " -> " << bf16.back()[k].second);
+    INFO(name << ": fp32 " << fp32.front()[k].second << " -> " << fp32.back()[k].second << ", bf16 "
+              << bf16.front()[k].second << " -> " << bf16.back()[k].second);
     // The first epoch's steps start from the same weights: within bf16's rounding.
     CHECK(bf16.front()[k].second == Approx(fp32.front()[k].second).epsilon(0.02).margin(1e-4));
     if (name.rfind("diversity", 0) == 0) continue;  // traded against accuracy
