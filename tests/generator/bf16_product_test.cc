@@ -2,35 +2,21 @@
 // portable kernel everywhere and the AVX512-BF16 kernel where the CPU has it.
 #include "generator/kernels/bf16_product.h"
 
-#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <vector>
 
+#include "bf16_skip.h"
 #include "generator/kernels/backend.h"
 #include "generator/kernels/cpu_features.h"
+#include "torch_catch.h"
 
 using namespace motionfork;
 
 namespace {
 
-// Skips (CTest shows a skip) where the AVX512-BF16 kernel was not built or the CPU lacks
-// AVX512-BF16; MOTIONFORK_REQUIRE_BF16=1 makes the latter a failure.
-bool Bf16OrSkip() {
-  if (!kernels::Bf16KernelBuilt()) {
-    WARN("SKIPPED: this build has no AVX512-BF16 kernel; the portable one is tested");
-    return false;
-  }
-  if (!kernels::Cpu().avx512_bf16) {
-    if (const char* need = std::getenv("MOTIONFORK_REQUIRE_BF16"); need && *need == '1')
-      FAIL("MOTIONFORK_REQUIRE_BF16=1 but this CPU has no AVX512-BF16");
-    WARN("SKIPPED: this CPU has no AVX512-BF16; the portable kernel is tested");
-    return false;
-  }
-  REQUIRE(kernels::Bf16KernelRuns());
-  return true;
-}
+bool Bf16OrSkip() { return testing::Bf16OrSkip("the portable kernel is tested"); }
 
 // Every shape: the kernel's Z against the exact product of the bf16-rounded inputs (in double) and
 // against the float32 product within bf16's rounding (2^-8 relative per input, of sum |x||w|).

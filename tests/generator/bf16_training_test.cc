@@ -5,6 +5,7 @@
 #include <tuple>
 #include <vector>
 
+#include "bf16_skip.h"
 #include "generator/kernels/backend.h"
 #include "generator/kernels/bf16_product.h"
 #include "generator/kernels/cpu_features.h"
@@ -19,15 +20,7 @@ using namespace motionfork;
 
 namespace {
 
-// Skips (CTest shows a skip) where the AVX512-BF16 kernel cannot run; MOTIONFORK_REQUIRE_BF16=1
-// makes a CPU without it a failure.
-bool Bf16OrSkip() {
-  if (Bf16ProductsAvailable()) return true;
-  if (const char* need = std::getenv("MOTIONFORK_REQUIRE_BF16"); need && *need == '1')
-    FAIL("MOTIONFORK_REQUIRE_BF16=1 but the AVX512-BF16 kernel cannot run here");
-  WARN("SKIPPED: no AVX512-BF16 kernel on this CPU or build; training in bf16 is refused here");
-  return false;
-}
+bool Bf16OrSkip() { return testing::Bf16OrSkip("training in bf16 is refused here"); }
 
 torch::Tensor Rounded(const torch::Tensor& t) { return t.to(torch::kBFloat16).to(torch::kDouble); }
 
