@@ -79,9 +79,11 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
 }
 
 // refiner_weights and refiner_local_weights: [kRefinerGapBuckets finite numbers] (absent: none;
-// the first >= 0), refiner_keep_bones: a bool (absent: false); only with a refiner.
+// the first >= 0), refiner_keep_bones: a bool (absent: false), refiner_adapt_values: a finite
+// number >= 0 (absent: 0); only with a refiner.
 void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
-  for (const char* key : {"refiner_weights", "refiner_local_weights", "refiner_keep_bones"}) {
+  for (const char* key :
+       {"refiner_weights", "refiner_local_weights", "refiner_keep_bones", "refiner_adapt_values"}) {
     if (root[key] && !m->refiner.enabled())
       Fail(file, root[key], std::string(key) + ": expected a refiner, found none");
   }
@@ -102,6 +104,14 @@ void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, Hg
   weights("refiner_local_weights", false, &m->refiner_local_weights);
   if (root["refiner_keep_bones"])
     m->refiner_keep_bones = Get<bool>(file, root, "refiner_keep_bones");
+  if (root["refiner_adapt_values"]) {
+    m->refiner_adapt_values = Get<double>(file, root, "refiner_adapt_values");
+    if (!(std::isfinite(m->refiner_adapt_values) && m->refiner_adapt_values >= 0)) {
+      Fail(file, root["refiner_adapt_values"],
+           "refiner_adapt_values: expected a finite number >= 0, found " +
+               std::to_string(m->refiner_adapt_values));
+    }
+  }
 }
 
 void EmitImpute(YAML::Emitter& out, const ImputeOptions& o) {
@@ -235,6 +245,9 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
               << m.refiner_local_weights;
         }
         if (m.refiner_keep_bones) out << YAML::Key << "refiner_keep_bones" << YAML::Value << true;
+        if (m.refiner_adapt_values > 0) {
+          out << YAML::Key << "refiner_adapt_values" << YAML::Value << m.refiner_adapt_values;
+        }
       });
 }
 
@@ -253,6 +266,7 @@ std::string HgvaeSignature(const HgvaeManifest& m) {
   s.refiner_weights.clear();
   s.refiner_local_weights.clear();
   s.refiner_keep_bones = false;
+  s.refiner_adapt_values = 0;
   s.info.clear();
   return FormatHgvaeManifest(s);
 }

@@ -8,6 +8,7 @@
 #include "core/parallel_for.h"
 #include "imputation/hgvae_net.h"
 #include "imputation/hgvae_tensors.h"
+#include "imputation/refiner_adaptation.h"
 #include "refine/refiner_windows.h"
 #include "torch_util/parameters.h"
 
@@ -299,11 +300,16 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) co
       im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
   std::vector<float> refined(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());
   const HgvaeManifest& m = im.manifest;
-  if (!calibrated ||
-      (m.refiner_weights.empty() && m.refiner_local_weights.empty() && !m.refiner_keep_bones))
+  if (!calibrated || (m.refiner_weights.empty() && m.refiner_local_weights.empty() &&
+                      !m.refiner_keep_bones && !(m.refiner_adapt_values > 0)))
     return refined;
-  return BlendRefinerFills(skeleton(), f, refined,
-                           {m.refiner_weights, m.refiner_local_weights, m.refiner_keep_bones});
+  ImputationBlend blend{m.refiner_weights, m.refiner_local_weights, m.refiner_keep_bones,
+                        m.refiner_adapt_values};
+  if (blend.adapt_values > 0) {
+    const RawRefiner raw = [this](const RefinerFills& probe) { return Refine(probe, false); };
+    blend = AdaptBlend(blend, ProbeBlendSums(skeleton(), f, raw), blend.adapt_values);
+  }
+  return BlendRefinerFills(skeleton(), f, refined, blend);
 }
 
 }  // namespace motionfork

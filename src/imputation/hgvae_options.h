@@ -146,6 +146,9 @@ struct HgvaeManifest {
   // and whether to keep the rigid bones at their observed lengths (ImputationBlend).
   std::vector<double> refiner_local_weights;
   bool refiner_keep_bones = false;
+  // > 0: those weights are adapted to each motion by probes of its own observed values, pulled
+  // towards them as if by this many values (refiner_adaptation.h); 0: used as they are.
+  double refiner_adapt_values = 0;
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

@@ -181,6 +181,7 @@ RefinerFills MakeRefinerFills(const Skeleton& skeleton, const std::vector<float>
   }
   f.before = GapDistance(f.mask, T, N, 1);
   f.after = GapDistance(f.mask, T, N, -1);
+  f.fallback = fallback;
   return f;
 }
 

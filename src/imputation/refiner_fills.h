@@ -27,6 +27,7 @@ struct RefinerFills {
   std::vector<float> local;                  // [T, N], Interpolation::kLocalPolynomial (no input)
   std::vector<uint8_t> mask;                 // [T, N], 1 = missing
   std::vector<float> before, after;          // [T, N], frames to the nearest observed value
+  std::vector<float> fallback;               // [J, 3] root-relative: where nothing is observed
 };
 
 // The refiner's correction is calibrated per bucket of missing values (HgvaeManifest's
@@ -59,6 +60,9 @@ struct ImputationBlend {
   std::vector<double> refiner;  // a per bucket [kRefinerGapBuckets]; empty: 1 everywhere
   std::vector<double> local;    // b per bucket; empty: 0 everywhere
   bool keep_bones = false;
+  // > 0: a and b are first adapted to the motion (refiner_adaptation.h), pulled towards the
+  // weights above as if by this many values; 0: used as they are.
+  double adapt_values = 0;
 };
 // f holds one window (f.frames rows); refined: the refiner's output for it, [T, N] metres
 // root-relative. Returns the blended [T, N] (observed values as refined holds them).

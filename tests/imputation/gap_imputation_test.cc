@@ -227,16 +227,26 @@ TEST_CASE(
   REQUIRE(c.blend.refiner.size() == static_cast<size_t>(kRefinerGapBuckets));
   REQUIRE(c.blend.local.size() == static_cast<size_t>(kRefinerGapBuckets));
   REQUIRE_FALSE(c.settings.empty());
-  double spline = 0, refiner = 0, calibrated = 0, bones = 0;
+  double spline = 0, refiner = 0, calibrated = 0, adapted = 0, bones = 0;
   for (const RefinerCalibration::Setting& x : c.settings) {
     spline += 1;
     refiner += std::pow(x.refiner_cm / x.spline_cm, 2);
     calibrated += std::pow(x.calibrated_cm / x.spline_cm, 2);
+    adapted += std::pow(x.adapted_cm / x.spline_cm, 2);
     bones += std::pow(x.kept_cm / x.spline_cm, 2);
   }
   CHECK(calibrated <= refiner + 1e-9);
   CHECK(calibrated <= spline + 1e-9);
-  CHECK(c.blend.keep_bones == (bones < calibrated));
+  CHECK(c.blend.keep_bones == (bones < adapted));
+  // Every prior was scored and the lowest cross-fitted sum chosen (0: no adaptation).
+  REQUIRE(c.adapt_scores.size() == std::size(kAdaptPriors));
+  for (const auto& [prior, score] : c.adapt_scores) {
+    CHECK(std::isfinite(score));
+    if (prior == c.blend.adapt_values) {
+      for (const auto& other : c.adapt_scores) CHECK(score <= other.second);
+    }
+  }
+  if (c.blend.adapt_values == 0) CHECK(adapted == Approx(calibrated).epsilon(1e-9));
   for (double w : c.blend.refiner) CHECK((w >= 0 && w <= 1));
   for (double w : c.blend.local) CHECK((w >= 0 && w <= 1));
   HgvaeManifest cm;
@@ -244,11 +254,13 @@ TEST_CASE(
   CHECK(cm.refiner_weights == c.blend.refiner);
   CHECK(cm.refiner_local_weights == c.blend.local);
   CHECK(cm.refiner_keep_bones == c.blend.keep_bones);
+  CHECK(cm.refiner_adapt_values == c.blend.adapt_values);
   CHECK(RefinerCalibrationText(c, "OUT").find("gap 1, slow, sparse") != std::string::npos);
   // Weights 0 keep the spline exactly; the uncalibrated refiner ignores them.
   cm.refiner_weights.assign(kRefinerGapBuckets, 0.0);
   cm.refiner_local_weights.assign(kRefinerGapBuckets, 0.0);
   cm.refiner_keep_bones = false;
+  cm.refiner_adapt_values = 0;
   const HgvaeModel zero = HgvaeModel::FromNet(cm, net);
   const std::vector<uint8_t> mask = GapMask({"arm gap", 0, {11, 12, 13}, 12}, 50, 17, 5);
   const RefinerFills f =
@@ -267,6 +279,23 @@ TEST_CASE(
   }
   CHECK(again.refiner_local_weights == cm.refiner_local_weights);
   CHECK(again.refiner_keep_bones);
+  // Adapted to the motion: the observed values stay as they are, the missing ones move off the
+  // local polynomial where the probes say so; the prior round-trips, a negative one is refused.
+  cm.refiner_adapt_values = 10;
+  const std::vector<float> adapted_fill = HgvaeModel::FromNet(cm, net).Refine(f);
+  for (size_t i = 0; i < f.mask.size(); ++i) {
+    REQUIRE(std::isfinite(adapted_fill[i]));
+    if (!f.mask[i]) CHECK(adapted_fill[i] == Approx(f.spline[i]).margin(1e-6));
+  }
+  {
+    std::ofstream(dir.file("again.yaml")) << FormatHgvaeManifest(cm);
+    CHECK(LoadHgvaeManifest(dir.file("again.yaml")).refiner_adapt_values == 10);
+    std::string negative = FormatHgvaeManifest(cm);
+    negative.replace(negative.find("refiner_adapt_values: 10"), 24, "refiner_adapt_values: -1");
+    std::ofstream(dir.file("negative.yaml")) << negative;
+    CHECK_THROWS_WITH(LoadHgvaeManifest(dir.file("negative.yaml")),
+                      Catch::Contains("refiner_adapt_values: expected a finite number >= 0"));
+  }
   double moved = 0;
   for (size_t i = 0; i < local.size(); ++i) moved += std::abs(local[i] - f.spline[i]);
   CHECK(moved > 0);

@@ -1,68 +1,62 @@
 #include "imputation/training/refiner_calibration.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
+#include <tuple>
 
 #include "bundle/hgvae_bundle.h"
 #include "bundle/manifest.h"
 #include "core/parallel_for.h"
 #include "core/text_format.h"
+#include "imputation/blend_fit.h"
 #include "imputation/bone_lengths.h"
 #include "imputation/gap_imputation.h"
 #include "imputation/motion_imputation.h"
+#include "imputation/refiner_adaptation.h"
 #include "imputation/refiner_fills.h"
 
 namespace motionfork {
 
 namespace {
 
-// Per setting and bucket: sums over the missing values of the products of e, c and l, where e is
-// the spline's error (clean - spline), c the refiner's correction (refined - spline) and l the
-// local polynomial's (local - spline).
-enum Product { kEE, kCE, kCC, kLE, kLL, kCL, kProducts };
-struct Sums {
-  std::array<double, kProducts> v{};
+// One clip under one setting's mask: per bucket the sums of its missing values and of its probes'
+// hidden values (refiner_adaptation.h).
+struct Item {
+  size_t clip = 0, setting = 0;
+  BucketSums real, probes;
 };
-using SettingSums = std::vector<Sums>;  // [kRefinerGapBuckets]
 
-// Squared error of spline + a c + b l over one bucket's sums.
-double Squares(const Sums& s, double a, double b) {
-  const auto& v = s.v;
-  return v[kEE] - 2 * a * v[kCE] - 2 * b * v[kLE] + a * a * v[kCC] + b * b * v[kLL] +
-         2 * a * b * v[kCL];
+// Per bucket the weights minimising the sum over settings of (calibrated squares / spline
+// squares) over the items `use` takes: each bucket on its own, over its sums divided by their
+// setting's spline squares.
+template <typename Use>
+ImputationBlend FitBlend(const std::vector<Item>& items, size_t settings, const Use& use) {
+  std::vector<double> spline(settings, 0.0);
+  for (const Item& it : items)
+    if (use(it))
+      for (const BlendSums& x : it.real) spline[it.setting] += x.v[BlendSums::kEE];
+  BucketSums pooled(kRefinerGapBuckets);
+  for (const Item& it : items) {
+    if (!use(it) || !(spline[it.setting] > 0)) continue;
+    for (int k = 0; k < kRefinerGapBuckets; ++k)
+      pooled[k] += it.real[k].Scaled(1.0 / spline[it.setting]);
+  }
+  ImputationBlend blend;
+  blend.refiner.assign(kRefinerGapBuckets, 1.0);
+  blend.local.assign(kRefinerGapBuckets, 0.0);
+  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+    const auto& v = pooled[k].v;
+    if (v[BlendSums::kCC] > 0 || v[BlendSums::kLL] > 0)
+      std::tie(blend.refiner[k], blend.local[k]) = BestBlendWeights(pooled[k]);
+  }
+  return blend;
 }
 
-// Over a setting's buckets with weights a, b per bucket.
-double SettingSquares(const SettingSums& s, const std::vector<double>& a,
-                      const std::vector<double>& b) {
-  double total = 0;
-  for (int k = 0; k < kRefinerGapBuckets; ++k) total += Squares(s[k], a[k], b[k]);
-  return total;
-}
-
-// The (a, b) in [0, 1]^2 minimising Squares(s, a, b): the unconstrained minimum when inside, else
-// the best of each edge's minimum and the corners.
-std::pair<double, double> BestWeights(const Sums& s) {
-  const auto& v = s.v;
-  std::vector<std::pair<double, double>> candidates = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  const double det = v[kCC] * v[kLL] - v[kCL] * v[kCL];
-  if (det > 1e-12 * std::max(1e-300, v[kCC] * v[kLL])) {
-    candidates.push_back(
-        {(v[kCE] * v[kLL] - v[kLE] * v[kCL]) / det, (v[kLE] * v[kCC] - v[kCE] * v[kCL]) / det});
-  }
-  for (double fixed : {0.0, 1.0}) {  // one weight on an edge, the other at its best
-    if (v[kCC] > 0) candidates.push_back({(v[kCE] - fixed * v[kCL]) / v[kCC], fixed});
-    if (v[kLL] > 0) candidates.push_back({fixed, (v[kLE] - fixed * v[kCL]) / v[kLL]});
-  }
-  std::pair<double, double> best{0, 0};
-  for (auto [a, b] : candidates) {
-    if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1)) continue;
-    if (Squares(s, a, b) < Squares(s, best.first, best.second)) best = {a, b};
-  }
-  return best;
+// The blend an item's motion gets: adapted to its probes when adapt_values > 0.
+ImputationBlend ItemBlend(const ImputationBlend& blend, const Item& it) {
+  return blend.adapt_values > 0 ? AdaptBlend(blend, it.probes, blend.adapt_values) : blend;
 }
 
 }  // namespace
@@ -76,10 +70,12 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
   const int J = skeleton.num_joints(), N = 3 * (J - 1);
   const std::vector<GapSetting> settings = StandardGapSettings(skeleton, model.manifest().fps);
   const std::vector<float> fallback = TrainingMeanPose(model);
+  const RawRefiner raw = [&model](const RefinerFills& f) { return model.Refine(f, false); };
   RefinerCalibration out;
   out.clips = static_cast<int>(clips.size());
   out.bucket_values.assign(kRefinerGapBuckets, 0);
-  // Every clip with every setting's mask: fill(setting, clean clip, fills, uncalibrated refined).
+  // Every clip with every setting's mask, in the same order each time:
+  // fill(clip, setting, clean clip, fills, uncalibrated refined).
   auto for_each_fill = [&](const std::string& stage, const auto& fill) {
     for (size_t c = 0; c < clips.size(); ++c) {
       const std::vector<float>& clean = clips[c];
@@ -95,77 +91,94 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
             GapMask(settings[s], T, J, ItemSeed(seed, static_cast<int>(s * 100003 + c)));
         if (std::count(mask.begin(), mask.end(), 1) == 0) continue;
         const RefinerFills f = MakeRefinerFills(skeleton, positions, mask, fallback);
-        fill(s, clean, f, model.Refine(f, /*calibrated=*/false));
+        fill(c, s, clean, f, raw(f));
       }
       ReportProgress(progress, stage,
                      static_cast<double>(c + 1) / static_cast<double>(clips.size()));
     }
   };
-  std::vector<SettingSums> sums(settings.size(), SettingSums(kRefinerGapBuckets));
+  std::vector<Item> items;
   std::vector<int64_t> values(settings.size(), 0);
   for_each_fill("calibrating on held-out clips",
-                [&](size_t s, const std::vector<float>& clean, const RefinerFills& f,
+                [&](size_t c, size_t s, const std::vector<float>& clean, const RefinerFills& f,
                     const std::vector<float>& refined) {
-                  const std::vector<int> buckets = RefinerGapBuckets(f);
-                  for (size_t i = 0; i < buckets.size(); ++i) {
-                    if (buckets[i] < 0) continue;
-                    const double e = clean[i] - f.spline[i], c = refined[i] - f.spline[i],
-                                 l = f.local[i] - f.spline[i];
-                    auto& v = sums[s][buckets[i]].v;
-                    v[kEE] += e * e;
-                    v[kCE] += c * e;
-                    v[kCC] += c * c;
-                    v[kLE] += l * e;
-                    v[kLL] += l * l;
-                    v[kCL] += c * l;
-                    ++values[s];
-                    ++out.bucket_values[buckets[i]];
+                  Item it{c, s, BucketSums(kRefinerGapBuckets), ProbeBlendSums(skeleton, f, raw)};
+                  AddBlendSums(f, refined, clean, f.mask, &it.real);
+                  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+                    values[s] += it.real[k].values;
+                    out.bucket_values[k] += it.real[k].values;
                   }
+                  items.push_back(std::move(it));
                 });
-  // Minimise the sum over settings of (calibrated squares / spline squares): each bucket on its
-  // own, over its sums divided by their setting's spline squares.
-  out.blend.refiner.assign(kRefinerGapBuckets, 1.0);
-  out.blend.local.assign(kRefinerGapBuckets, 0.0);
   std::vector<double> spline(settings.size(), 0.0);
-  for (size_t s = 0; s < settings.size(); ++s)
-    for (const Sums& x : sums[s]) spline[s] += x.v[kEE];
-  for (int k = 0; k < kRefinerGapBuckets; ++k) {
-    Sums pooled;
-    for (size_t s = 0; s < settings.size(); ++s) {
-      if (!(spline[s] > 0)) continue;
-      for (int p = 0; p < kProducts; ++p) pooled.v[p] += sums[s][k].v[p] / spline[s];
+  for (const Item& it : items)
+    for (const BlendSums& x : it.real) spline[it.setting] += x.v[BlendSums::kEE];
+  // Sum over settings of squares / spline squares, with the blend each item gets from blend_of.
+  auto relative = [&](const auto& blend_of, std::vector<double>* per_setting) {
+    std::vector<double> squares(settings.size(), 0.0);
+    for (const Item& it : items) {
+      const ImputationBlend b = blend_of(it);
+      squares[it.setting] += BlendSquares(it.real, b.refiner, b.local);
     }
-    if (pooled.v[kCC] > 0 || pooled.v[kLL] > 0)
-      std::tie(out.blend.refiner[k], out.blend.local[k]) = BestWeights(pooled);
+    double total = 0;
+    for (size_t s = 0; s < settings.size(); ++s)
+      if (spline[s] > 0) total += squares[s] / spline[s];
+    if (per_setting) *per_setting = squares;
+    return total;
+  };
+  out.blend = FitBlend(items, settings.size(), [](const Item&) { return true; });
+  // How much to adapt to each motion, cross-fitted: the weights fitted on one half of the clips,
+  // adapted on the other half with each prior, scored there.
+  const ImputationBlend halves[2] = {
+      FitBlend(items, settings.size(), [](const Item& it) { return it.clip % 2 == 1; }),
+      FitBlend(items, settings.size(), [](const Item& it) { return it.clip % 2 == 0; })};
+  for (const double prior : kAdaptPriors) {
+    const double score = relative(
+        [&](const Item& it) {
+          ImputationBlend b = halves[it.clip % 2];
+          b.adapt_values = prior;
+          return ItemBlend(b, it);
+        },
+        nullptr);
+    out.adapt_scores.push_back({prior, score});
   }
-  // The same with the rigid bones kept at their observed lengths: kept when that lowers the sum.
+  out.blend.adapt_values =
+      std::min_element(out.adapt_scores.begin(), out.adapt_scores.end(),
+                       [](const auto& x, const auto& y) { return x.second < y.second; })
+          ->first;
+  // The rigid bones kept at their observed lengths: kept when that lowers the sum.
   ImputationBlend with_bones = out.blend;
   with_bones.keep_bones = true;
   std::vector<double> kept(settings.size(), 0.0);
+  size_t next = 0;
   for_each_fill("keeping bone lengths on held-out clips",
-                [&](size_t s, const std::vector<float>& clean, const RefinerFills& f,
+                [&](size_t, size_t s, const std::vector<float>& clean, const RefinerFills& f,
                     const std::vector<float>& refined) {
-                  const std::vector<float> k = BlendRefinerFills(skeleton, f, refined, with_bones);
+                  const std::vector<float> k =
+                      BlendRefinerFills(skeleton, f, refined, ItemBlend(with_bones, items[next++]));
                   for (size_t i = 0; i < k.size(); ++i)
                     if (f.mask[i]) kept[s] += std::pow(double(k[i]) - clean[i], 2);
                 });
-  const std::vector<double> ones(kRefinerGapBuckets, 1.0), zeros(kRefinerGapBuckets, 0.0);
-  double calibrated_sum = 0, kept_sum = 0;
+  std::vector<double> raw_squares, calibrated, adapted;
+  ImputationBlend as_is = out.blend, ones;
+  as_is.adapt_values = 0;
+  ones.refiner.assign(kRefinerGapBuckets, 1.0);
+  ones.local.assign(kRefinerGapBuckets, 0.0);
+  relative([&](const Item&) { return ones; }, &raw_squares);
+  relative([&](const Item&) { return as_is; }, &calibrated);
+  const double adapted_sum =
+      relative([&](const Item& it) { return ItemBlend(out.blend, it); }, &adapted);
+  double kept_sum = 0;
   for (size_t s = 0; s < settings.size(); ++s) {
     if (values[s] == 0) continue;
     auto rms = [&](double squares) { return 100 * std::sqrt(std::max(0.0, squares) / values[s]); };
-    const double calibrated = SettingSquares(sums[s], out.blend.refiner, out.blend.local);
-    out.settings.push_back({settings[s].name, values[s], rms(spline[s]),
-                            rms(SettingSquares(sums[s], ones, zeros)), rms(calibrated),
-                            rms(kept[s])});
-    if (spline[s] > 0) {
-      calibrated_sum += calibrated / spline[s];
-      kept_sum += kept[s] / spline[s];
-    }
+    out.settings.push_back({settings[s].name, values[s], rms(spline[s]), rms(raw_squares[s]),
+                            rms(calibrated[s]), rms(adapted[s]), rms(kept[s])});
+    if (spline[s] > 0) kept_sum += kept[s] / spline[s];
   }
   if (out.settings.empty())
     throw std::invalid_argument("calibrate: no clip is long enough for any gap setting");
-  out.blend.keep_bones = kept_sum < calibrated_sum;
+  out.blend.keep_bones = kept_sum < adapted_sum;
   return out;
 }
 
@@ -183,6 +196,7 @@ RefinerCalibration CalibrateHgvaeBundle(const std::string& model_dir,
   m.refiner_weights = c.blend.refiner;
   m.refiner_local_weights = c.blend.local;
   m.refiner_keep_bones = c.blend.keep_bones;
+  m.refiner_adapt_values = c.blend.adapt_values;
   SetManifestInfo(&m.info, "refiner_calibration",
                   std::to_string(c.clips) + " held-out clips, seed " + std::to_string(seed));
   SaveHgvaeBundle(out_dir, m, net);
@@ -196,13 +210,21 @@ std::string RefinerCalibrationText(const RefinerCalibration& c, const std::strin
     StringAppendf(&text, "%-28s %8.3f %8.3f %12s\n", RefinerGapBucketName(b).c_str(),
                   c.blend.refiner[b], c.blend.local[b], WithThousands(c.bucket_values[b]).c_str());
   }
+  text += "adapting to each motion (cross-fitted sum of squares / spline's over settings):";
+  for (const auto& [prior, score] : c.adapt_scores) {
+    StringAppendf(&text, " %s %.3f", prior > 0 ? StringPrintf("%g", prior).c_str() : "off", score);
+  }
+  StringAppendf(&text, "\nadapt to each motion: %s\n",
+                c.blend.adapt_values > 0
+                    ? StringPrintf("yes, prior worth %g values", c.blend.adapt_values).c_str()
+                    : "no");
   StringAppendf(&text, "keep bone lengths: %s\n", c.blend.keep_bones ? "yes" : "no");
-  StringAppendf(&text, "\nRMS of the missing values (cm)\n%-28s %10s %8s %8s %10s %8s\n", "setting",
-                "values", "spline", "refiner", "calibrated", "bones");
+  StringAppendf(&text, "\nRMS of the missing values (cm)\n%-28s %10s %8s %8s %10s %8s %8s\n",
+                "setting", "values", "spline", "refiner", "calibrated", "adapted", "bones");
   for (const RefinerCalibration::Setting& s : c.settings) {
-    StringAppendf(&text, "%-28s %10s %8.3f %8.3f %10.3f %8.3f\n", s.name.c_str(),
+    StringAppendf(&text, "%-28s %10s %8.3f %8.3f %10.3f %8.3f %8.3f\n", s.name.c_str(),
                   WithThousands(s.values).c_str(), s.spline_cm, s.refiner_cm, s.calibrated_cm,
-                  s.kept_cm);
+                  s.adapted_cm, s.kept_cm);
   }
   return text + "wrote " + out + "\n";
 }

@@ -4,8 +4,10 @@
 // polynomial's to add, and whether keeping the rigid bones at their lengths helps. Every standard
 // gap setting (gap_imputation.h) is drawn on every clip; a bucket's two weights are the least-
 // squares ones within [0, 1], each setting counted by its error relative to the spline's (so a
-// 1-frame gap weighs as much as a 2 s one); the bones are kept when that lowers the same sum. The
-// figures per setting show the fit on the same clips (no test data is read).
+// 1-frame gap weighs as much as a 2 s one). How much to adapt those weights to each motion
+// (refiner_adaptation.h) is chosen among kAdaptPriors by cross-fitting: weights fitted on half of
+// the clips, adapted and scored on the other half. The bones are kept when that lowers the same
+// sum. The figures per setting show the fit on the same clips (no test data is read).
 #pragma once
 
 #include <cstdint>
@@ -18,6 +20,9 @@
 
 namespace motionfork {
 
+// The priors tried for the adaptation (values; 0: none).
+constexpr double kAdaptPriors[] = {0, 3, 10, 30, 100, 300, 1000};
+
 struct RefinerCalibration {
   ImputationBlend blend;               // refiner and local weights [kRefinerGapBuckets], bones
   std::vector<int64_t> bucket_values;  // missing values seen per bucket
@@ -25,9 +30,11 @@ struct RefinerCalibration {
     std::string name;
     int64_t values = 0;
     double spline_cm = 0, refiner_cm = 0, calibrated_cm = 0;  // RMS over the missing values
-    double kept_cm = 0;  // calibrated with the bone lengths kept (bone_lengths.h)
+    double adapted_cm = 0;  // calibrated, then adapted to each clip as blend.adapt_values says
+    double kept_cm = 0;     // adapted with the bone lengths kept (bone_lengths.h)
   };
   std::vector<Setting> settings;
+  std::vector<std::pair<double, double>> adapt_scores;  // per prior: its cross-fitted sum
   int clips = 0;
 };
 

@@ -1,0 +1,94 @@
+#include "imputation/refiner_adaptation.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace motionfork {
+
+std::vector<std::vector<uint8_t>> RefinerProbes(const RefinerFills& f) {
+  const int N = f.coords, T = f.frames;
+  if (N <= 0 || T <= 0 || f.mask.size() != static_cast<size_t>(T) * N)
+    throw std::invalid_argument("RefinerProbes: expected one window of fills");
+  auto missing = [&](int t, int v) { return f.mask[static_cast<size_t>(t) * N + v] != 0; };
+  int longest = 0;  // the longest run of missing frames of a coordinate observed somewhere
+  for (int v = 0; v < N; ++v) {
+    int run = 0, most = 0;
+    for (int t = 0; t < T; ++t) {
+      run = missing(t, v) ? run + 1 : 0;
+      most = std::max(most, run);
+    }
+    if (most < T) longest = std::max(longest, most);
+  }
+  std::vector<std::vector<uint8_t>> probes;
+  if (longest == 0) return probes;
+  const int d = longest + 1;
+  for (int shift : {d, -d, 2 * d, -2 * d}) {
+    if (std::abs(shift) >= T) continue;
+    std::vector<uint8_t> hide(f.mask.size(), 0);
+    bool any = false;
+    for (int t = std::max(0, shift); t < std::min(T, T + shift); ++t) {
+      for (int v = 0; v < N; ++v) {
+        if (!missing(t, v) && missing(t - shift, v)) {
+          hide[static_cast<size_t>(t) * N + v] = 1;
+          any = true;
+        }
+      }
+    }
+    if (any) probes.push_back(std::move(hide));
+  }
+  return probes;
+}
+
+BucketSums ProbeBlendSums(const Skeleton& skeleton, const RefinerFills& f,
+                          const RawRefiner& refine) {
+  const int J = skeleton.num_joints(), N = f.coords, T = f.frames;
+  if (N != 3 * (J - 1) || f.spline.size() != static_cast<size_t>(T) * N) {
+    throw std::invalid_argument("ProbeBlendSums: expected fills of " + std::to_string(3 * (J - 1)) +
+                                " coordinates (skeleton '" + skeleton.name() + "'), got " +
+                                std::to_string(N));
+  }
+  // The motion as MakeRefinerFills takes it: the root at the origin, f's values (observed ones
+  // as observed) at the other joints.
+  const size_t F = static_cast<size_t>(J) * 3;
+  std::vector<float> positions(static_cast<size_t>(T) * F, 0.0f);
+  for (int t = 0; t < T; ++t) {
+    std::copy(f.spline.begin() + static_cast<size_t>(t) * N,
+              f.spline.begin() + static_cast<size_t>(t + 1) * N,
+              positions.begin() + static_cast<size_t>(t) * F + 3);
+  }
+  BucketSums sums(kRefinerGapBuckets);
+  for (const std::vector<uint8_t>& hide : RefinerProbes(f)) {
+    std::vector<uint8_t> missing(positions.size(), 0);
+    for (int t = 0; t < T; ++t) {
+      for (int v = 0; v < N; ++v) {
+        const size_t i = static_cast<size_t>(t) * N + v;
+        missing[static_cast<size_t>(t) * F + 3 + v] = f.mask[i] | hide[i];
+      }
+    }
+    const RefinerFills probe = MakeRefinerFills(skeleton, positions, missing, f.fallback);
+    AddBlendSums(probe, refine(probe), f.spline, hide, &sums);
+  }
+  return sums;
+}
+
+ImputationBlend AdaptBlend(const ImputationBlend& blend, const BucketSums& probes,
+                           double prior_values) {
+  if (probes.size() != static_cast<size_t>(kRefinerGapBuckets)) {
+    throw std::invalid_argument("AdaptBlend: expected sums for " +
+                                std::to_string(kRefinerGapBuckets) + " buckets, got " +
+                                std::to_string(probes.size()));
+  }
+  ImputationBlend out = blend;
+  out.refiner.assign(kRefinerGapBuckets, 1.0);
+  out.local.assign(kRefinerGapBuckets, 0.0);
+  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+    const double a0 = blend.refiner.empty() ? 1.0 : blend.refiner[k];
+    const double b0 = blend.local.empty() ? 0.0 : blend.local[k];
+    std::tie(out.refiner[k], out.local[k]) = BestBlendWeights(probes[k], a0, b0, prior_values);
+  }
+  return out;
+}
+
+}  // namespace motionfork

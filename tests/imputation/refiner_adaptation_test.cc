@@ -1,0 +1,142 @@
+// Adapting the refiner's calibrated blend to one motion (no LibTorch): the least-squares weights
+// with a prior, the probe masks and the adaptation with stand-in refiners whose worth is known.
+#include "imputation/refiner_adaptation.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "imputation/blend_fit.h"
+#include "imputation/gap_imputation.h"
+#include "test_support.h"
+
+using namespace motionfork;
+
+namespace {
+
+// Sums of n values whose spline error is e, refiner correction c and local correction l each.
+BlendSums Repeated(int n, double e, double c, double l) {
+  BlendSums s;
+  for (int i = 0; i < n; ++i) s.Add(e, c, l);
+  return s;
+}
+
+// Root-relative coordinates without the root of positions [T, J, 3].
+std::vector<float> RootRelative(const std::vector<float>& p, int J) {
+  const size_t F = static_cast<size_t>(J) * 3, T = p.size() / F, N = F - 3;
+  std::vector<float> out(T * N);
+  for (size_t t = 0; t < T; ++t)
+    for (size_t v = 0; v < N; ++v) out[t * N + v] = p[t * F + 3 + v] - p[t * F + v % 3];
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("blend weights: least squares in [0, 1], pulled towards a prior by its worth") {
+  // The refiner's correction is exactly the error: a = 1, the local one adds nothing.
+  const BlendSums exact = Repeated(100, 0.02, 0.02, 0.0);
+  auto [a, b] = BestBlendWeights(exact);
+  CHECK(a == Approx(1));
+  CHECK(b == Approx(0));
+  CHECK(BlendSquares(exact, a, b) == Approx(0).margin(1e-12));
+  // Half the correction is right: a = 0.5; a correction twice the error would want 0.5 too.
+  CHECK(BestBlendWeights(Repeated(10, 0.01, 0.02, 0.0)).first == Approx(0.5));
+  // The wrong way round: clamped to 0.
+  CHECK(BestBlendWeights(Repeated(10, 0.01, -0.02, 0.0)).first == Approx(0));
+  // A prior worth no values leaves the fit; a huge one keeps the prior; equal worth lands between.
+  CHECK(BestBlendWeights(exact, 0.0, 0.0, 0.0).first == Approx(1));
+  BlendSums both = Repeated(50, 0.02, 0.02, 0.01);
+  both += Repeated(50, 0.01, 0.01, -0.01);
+  CHECK(BestBlendWeights(both).first == Approx(1));
+  CHECK(BestBlendWeights(both).second == Approx(0).margin(1e-9));
+  CHECK(BestBlendWeights(both, 0.2, 0.3, 1e12).first == Approx(0.2).margin(1e-6));
+  CHECK(BestBlendWeights(both, 0.2, 0.3, 1e12).second == Approx(0.3).margin(1e-6));
+  const double between = BestBlendWeights(exact, 0.0, 0.0, 100).first;
+  CHECK(between > 0.1);
+  CHECK(between < 0.9);
+  // Nothing known, or no correction to weigh: the prior as it is.
+  CHECK(BestBlendWeights(BlendSums{}, 0.7, 0.1, 10) == std::pair<double, double>{0.7, 0.1});
+  CHECK(BestBlendWeights(Repeated(5, 0.01, 0.0, 0.0), 0.7, 0.1, 10) ==
+        std::pair<double, double>{0.7, 0.1});
+}
+
+TEST_CASE("probe masks hide observed values in the pattern of the missing ones") {
+  const Motion motion = testing::MakeWalkingMotion(40, 30, 3);
+  const Skeleton& sk = motion.skeleton();
+  const int J = sk.num_joints(), N = 3 * (J - 1), T = 40;
+  std::vector<uint8_t> missing(static_cast<size_t>(T) * J * 3, 0);
+  // Joint 5 missing in frames 10..12 (a 3-frame gap); joint 7 missing throughout (not counted).
+  for (int t = 0; t < T; ++t) {
+    for (int a = 0; a < 3; ++a) {
+      if (t >= 10 && t <= 12) missing[(static_cast<size_t>(t) * J + 5) * 3 + a] = 1;
+      missing[(static_cast<size_t>(t) * J + 7) * 3 + a] = 1;
+    }
+  }
+  const std::vector<float> fallback(static_cast<size_t>(J) * 3, 0.0f);
+  const RefinerFills f = MakeRefinerFills(sk, motion.positions(), missing, fallback);
+  const std::vector<std::vector<uint8_t>> probes = RefinerProbes(f);
+  REQUIRE(probes.size() == 4);  // shifts +4, -4, +8, -8
+  const int first[] = {14, 6, 18, 2};
+  for (size_t p = 0; p < probes.size(); ++p) {
+    INFO("probe " << p);
+    int hidden = 0;
+    for (int t = 0; t < T; ++t) {
+      for (int v = 0; v < N; ++v) {
+        const size_t i = static_cast<size_t>(t) * N + v;
+        if (!probes[p][i]) continue;
+        ++hidden;
+        CHECK_FALSE(f.mask[i]);                      // only observed values are hidden
+        CHECK(v / 3 + 1 == 5);                       // of the joint with the gap
+        CHECK((t >= first[p] && t < first[p] + 3));  // as long as the gap, shifted
+      }
+    }
+    CHECK(hidden == 9);
+  }
+  // Nothing missing, or only whole coordinates: no probes.
+  std::vector<uint8_t> whole(missing.size(), 0);
+  for (int t = 0; t < T; ++t)
+    for (int a = 0; a < 3; ++a) whole[(static_cast<size_t>(t) * J + 7) * 3 + a] = 1;
+  CHECK(RefinerProbes(MakeRefinerFills(sk, motion.positions(), whole, fallback)).empty());
+}
+
+TEST_CASE("adapting the blend to a motion follows what its probes say about the refiner") {
+  const Motion motion = testing::MakeWalkingMotion(60, 30, 11);
+  const Skeleton& sk = motion.skeleton();
+  const int J = sk.num_joints();
+  const std::vector<float> truth = RootRelative(motion.positions(), J);
+  const std::vector<uint8_t> missing =
+      GapMask({"left arm gap", 0, {11, 12, 13}, 6}, 60, J, /*seed=*/4);
+  const RefinerFills f = MakeRefinerFills(sk, motion.positions(), missing, {});
+  // A refiner that knows the truth (probe fills hold the same motion) and one that adds noise.
+  const RawRefiner oracle = [&](const RefinerFills&) { return truth; };
+  const RawRefiner off = [&](const RefinerFills& p) {
+    std::vector<float> out = p.spline;
+    for (size_t i = 0; i < out.size(); ++i)
+      if (p.mask[i]) out[i] += (i % 2 ? 0.05f : -0.05f);
+    return out;
+  };
+  ImputationBlend calibrated;
+  calibrated.refiner.assign(kRefinerGapBuckets, 0.5);
+  calibrated.local.assign(kRefinerGapBuckets, 0.0);
+  const ImputationBlend trusting = AdaptBlend(calibrated, ProbeBlendSums(sk, f, oracle), 0.01);
+  const ImputationBlend doubting = AdaptBlend(calibrated, ProbeBlendSums(sk, f, off), 0.01);
+  const ImputationBlend kept = AdaptBlend(calibrated, ProbeBlendSums(sk, f, off), 1e12);
+  int reached = 0;
+  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+    if (trusting.refiner[k] == 0.5 && doubting.refiner[k] == 0.5) continue;  // no probe here
+    ++reached;
+    CHECK(trusting.refiner[k] > 0.9);
+    CHECK(doubting.refiner[k] < 0.1);
+    CHECK(kept.refiner[k] == Approx(0.5).margin(1e-6));
+  }
+  CHECK(reached > 0);
+  // Blended with the adapted weights, the oracle's fill beats the calibrated blend's.
+  auto error = [&](const ImputationBlend& b) {
+    const std::vector<float> out = BlendRefinerFills(sk, f, oracle(f), b);
+    double sum = 0;
+    for (size_t i = 0; i < out.size(); ++i)
+      if (f.mask[i]) sum += std::pow(double(out[i]) - truth[i], 2);
+    return sum;
+  };
+  CHECK(error(trusting) < error(calibrated));
+  CHECK_THROWS_AS(AdaptBlend(calibrated, BucketSums(3), 1), std::invalid_argument);
+}
