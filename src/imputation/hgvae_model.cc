@@ -303,13 +303,10 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) co
   if (!calibrated || (m.refiner_weights.empty() && m.refiner_local_weights.empty() &&
                       !m.refiner_keep_bones && !(m.refiner_adapt_values > 0)))
     return refined;
-  ImputationBlend blend{m.refiner_weights, m.refiner_local_weights, m.refiner_keep_bones,
-                        m.refiner_adapt_values};
-  if (blend.adapt_values > 0) {
-    const RawRefiner raw = [this](const RefinerFills& probe) { return Refine(probe, false); };
-    blend = AdaptBlend(blend, ProbeBlendSums(skeleton(), f, raw), blend.adapt_values);
-  }
-  return BlendRefinerFills(skeleton(), f, refined, blend);
+  const ImputationBlend blend{
+      m.refiner_weights, m.refiner_local_weights, m.refiner_keep_bones, {}, m.refiner_adapt_values};
+  const RawRefiner raw = [this](const RefinerFills& probe) { return Refine(probe, false); };
+  return BlendRefinerFills(skeleton(), f, refined, AdaptToMotion(skeleton(), f, raw, blend));
 }
 
 }  // namespace motionfork

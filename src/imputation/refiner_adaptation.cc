@@ -41,13 +41,13 @@ std::vector<std::vector<uint8_t>> RefinerProbes(const RefinerFills& f) {
   return probes;
 }
 
-BucketSums ProbeBlendSums(const Skeleton& skeleton, const RefinerFills& f,
-                          const RawRefiner& refine) {
+std::vector<RefinerProbe> FillRefinerProbes(const Skeleton& skeleton, const RefinerFills& f,
+                                            const RawRefiner& refine) {
   const int J = skeleton.num_joints(), N = f.coords, T = f.frames;
   if (N != 3 * (J - 1) || f.spline.size() != static_cast<size_t>(T) * N) {
-    throw std::invalid_argument("ProbeBlendSums: expected fills of " + std::to_string(3 * (J - 1)) +
-                                " coordinates (skeleton '" + skeleton.name() + "'), got " +
-                                std::to_string(N));
+    throw std::invalid_argument("FillRefinerProbes: expected fills of " +
+                                std::to_string(3 * (J - 1)) + " coordinates (skeleton '" +
+                                skeleton.name() + "'), got " + std::to_string(N));
   }
   // The motion as MakeRefinerFills takes it: the root at the origin, f's values (observed ones
   // as observed) at the other joints.
@@ -58,8 +58,8 @@ BucketSums ProbeBlendSums(const Skeleton& skeleton, const RefinerFills& f,
               f.spline.begin() + static_cast<size_t>(t + 1) * N,
               positions.begin() + static_cast<size_t>(t) * F + 3);
   }
-  BucketSums sums(kRefinerGapBuckets);
-  for (const std::vector<uint8_t>& hide : RefinerProbes(f)) {
+  std::vector<RefinerProbe> probes;
+  for (std::vector<uint8_t>& hide : RefinerProbes(f)) {
     std::vector<uint8_t> missing(positions.size(), 0);
     for (int t = 0; t < T; ++t) {
       for (int v = 0; v < N; ++v) {
@@ -67,9 +67,16 @@ BucketSums ProbeBlendSums(const Skeleton& skeleton, const RefinerFills& f,
         missing[static_cast<size_t>(t) * F + 3 + v] = f.mask[i] | hide[i];
       }
     }
-    const RefinerFills probe = MakeRefinerFills(skeleton, positions, missing, f.fallback);
-    AddBlendSums(probe, refine(probe), f.spline, hide, &sums);
+    RefinerProbe p{MakeRefinerFills(skeleton, positions, missing, f.fallback), {}, std::move(hide)};
+    p.refined = refine(p.fills);
+    probes.push_back(std::move(p));
   }
+  return probes;
+}
+
+BucketSums ProbeBlendSums(const std::vector<RefinerProbe>& probes, const RefinerFills& f) {
+  BucketSums sums(kRefinerGapBuckets);
+  for (const RefinerProbe& p : probes) AddBlendSums(p.fills, p.refined, f.spline, p.hidden, &sums);
   return sums;
 }
 
@@ -89,6 +96,43 @@ ImputationBlend AdaptBlend(const ImputationBlend& blend, const BucketSums& probe
     std::tie(out.refiner[k], out.local[k]) = BestBlendWeights(probes[k], a0, b0, prior_values);
   }
   return out;
+}
+
+ImputationBlend AdaptBones(const Skeleton& skeleton, const ImputationBlend& blend,
+                           const std::vector<RefinerProbe>& probes, const RefinerFills& f,
+                           double prior_values) {
+  if (!blend.keep_bones) return blend;
+  ImputationBlend loose = blend, rigid = blend;
+  loose.keep_bones = false;
+  rigid.bones.clear();
+  // Per bucket: e the blend's error on the hidden values, c the bones' correction of it.
+  BucketSums sums(kRefinerGapBuckets);
+  for (const RefinerProbe& p : probes) {
+    const std::vector<float> loose_fill = BlendRefinerFills(skeleton, p.fills, p.refined, loose);
+    const std::vector<float> kept = BlendRefinerFills(skeleton, p.fills, p.refined, rigid);
+    const std::vector<int> buckets = RefinerGapBuckets(p.fills);
+    for (size_t i = 0; i < loose_fill.size(); ++i) {
+      if (p.hidden[i] && buckets[i] >= 0)
+        sums[buckets[i]].Add(double(f.spline[i]) - loose_fill[i], double(kept[i]) - loose_fill[i],
+                             0.0);
+    }
+  }
+  ImputationBlend out = blend;
+  out.bones.assign(kRefinerGapBuckets, 1.0);
+  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+    const double prior = blend.bones.empty() ? 1.0 : blend.bones[k];
+    out.bones[k] = BestBlendWeights(sums[k], prior, 0.0, prior_values).first;
+  }
+  return out;
+}
+
+ImputationBlend AdaptToMotion(const Skeleton& skeleton, const RefinerFills& f,
+                              const RawRefiner& refine, const ImputationBlend& blend) {
+  if (!(blend.adapt_values > 0)) return blend;
+  const std::vector<RefinerProbe> probes = FillRefinerProbes(skeleton, f, refine);
+  if (probes.empty()) return blend;
+  const ImputationBlend adapted = AdaptBlend(blend, ProbeBlendSums(probes, f), blend.adapt_values);
+  return AdaptBones(skeleton, adapted, probes, f, blend.adapt_values);
 }
 
 }  // namespace motionfork

@@ -1,11 +1,12 @@
 // Adapting the imputation refiner's calibrated blend (ImputationBlend, refiner_fills.h) to one
 // motion (no LibTorch). The calibration's weights per bucket are fitted on held-out training
 // clips; a motion of another style (slower, noisier, another performer) may want more or less of
-// the refiner's and the local polynomial's corrections. The motion itself says how much: hide
-// values it does observe in the same pattern as its missing ones (probes), fill them the same
-// way, and fit each bucket's weights to those hidden values, pulled towards the calibrated ones
-// (BestBlendWeights with a prior worth `adapt_values` values; chosen on held-out clips by
-// `hgvae calibrate`). Observed values are never changed.
+// the refiner's and the local polynomial's corrections, and of the bones' (a fill already closer
+// than the bones' own spread of lengths is only moved off by them). The motion itself says how
+// much: hide values it does observe in the same pattern as its missing ones (probes), fill them
+// the same way, and fit each bucket's weights to those hidden values, pulled towards the
+// calibrated ones (BestBlendWeights with a prior worth `adapt_values` values; chosen on held-out
+// clips by `hgvae calibrate`). Observed values are never changed.
 #pragma once
 
 #include <cstdint>
@@ -28,14 +29,35 @@ using RawRefiner = std::function<std::vector<float>(const RefinerFills&)>;
 // coordinate is both observed and missing.
 std::vector<std::vector<uint8_t>> RefinerProbes(const RefinerFills& f);
 
-// Per bucket, the sums (blend_fit.h) over the hidden values of every probe of f, filled as f's
-// missing values are (the observed values of f as the truth); skeleton: the motion's.
-BucketSums ProbeBlendSums(const Skeleton& skeleton, const RefinerFills& f,
-                          const RawRefiner& refine);
+// One probe filled as f's missing values are: its fills (f's mask and the hidden values), the
+// refiner's output for them and the hidden values ([T, N], 1 = hidden).
+struct RefinerProbe {
+  RefinerFills fills;
+  std::vector<float> refined;
+  std::vector<uint8_t> hidden;
+};
+// Every probe of f (RefinerProbes); skeleton: the motion's.
+std::vector<RefinerProbe> FillRefinerProbes(const Skeleton& skeleton, const RefinerFills& f,
+                                            const RawRefiner& refine);
 
-// blend with each bucket's weights refitted to the probes (BestBlendWeights with blend's weights
-// as the prior, worth prior_values values); buckets the probes did not reach keep theirs.
+// Per bucket, the sums (blend_fit.h) over the hidden values of the probes of f, with f's
+// observed values as the truth.
+BucketSums ProbeBlendSums(const std::vector<RefinerProbe>& probes, const RefinerFills& f);
+
+// blend with each bucket's weights refitted to the probes' sums (BestBlendWeights with blend's
+// weights as the prior, worth prior_values values); buckets the probes did not reach keep theirs.
 ImputationBlend AdaptBlend(const ImputationBlend& blend, const BucketSums& probes,
                            double prior_values);
+
+// With blend.keep_bones: each bucket's share of the bones' correction (ImputationBlend::bones)
+// fitted to the probes' hidden values as blend fills them, pulled towards all of it as if by
+// prior_values values. Without keep_bones: blend as it is.
+ImputationBlend AdaptBones(const Skeleton& skeleton, const ImputationBlend& blend,
+                           const std::vector<RefinerProbe>& probes, const RefinerFills& f,
+                           double prior_values);
+
+// Both adaptations with blend.adapt_values as the prior (blend as it is when that is 0).
+ImputationBlend AdaptToMotion(const Skeleton& skeleton, const RefinerFills& f,
+                              const RawRefiner& refine, const ImputationBlend& blend);
 
 }  // namespace motionfork

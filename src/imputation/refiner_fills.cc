@@ -142,8 +142,14 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
     std::copy(f.mask.begin() + t * N, f.mask.begin() + (t + 1) * N, missing.begin() + t * F + 3);
   }
   const std::vector<float> kept = KeepBoneLengths(skeleton, positions, missing);
-  for (size_t t = 0; t < T; ++t)
-    std::copy(kept.begin() + t * F + 3, kept.begin() + (t + 1) * F, out.begin() + t * N);
+  const std::vector<float> share = blend.bones.empty() ? std::vector<float>(out.size(), 1.0f)
+                                                       : RefinerValueWeights(f, blend.bones);
+  for (size_t t = 0; t < T; ++t) {
+    for (size_t v = 0; v < N; ++v) {
+      const size_t i = t * N + v;
+      out[i] += share[i] * (kept[t * F + 3 + v] - out[i]);
+    }
+  }
   return out;
 }
 

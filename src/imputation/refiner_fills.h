@@ -60,8 +60,10 @@ struct ImputationBlend {
   std::vector<double> refiner;  // a per bucket [kRefinerGapBuckets]; empty: 1 everywhere
   std::vector<double> local;    // b per bucket; empty: 0 everywhere
   bool keep_bones = false;
-  // > 0: a and b are first adapted to the motion (refiner_adaptation.h), pulled towards the
-  // weights above as if by this many values; 0: used as they are.
+  // With keep_bones, how much of the bones' correction each bucket takes (empty: all of it).
+  std::vector<double> bones;
+  // > 0: a, b and the bones' share are first adapted to the motion (refiner_adaptation.h), pulled
+  // towards the weights above as if by this many values; 0: used as they are.
   double adapt_values = 0;
 };
 // f holds one window (f.frames rows); refined: the refiner's output for it, [T, N] metres

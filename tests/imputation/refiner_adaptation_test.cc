@@ -2,10 +2,12 @@
 // with a prior, the probe masks and the adaptation with stand-in refiners whose worth is known.
 #include "imputation/refiner_adaptation.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
 #include "imputation/blend_fit.h"
+#include "imputation/bone_lengths.h"
 #include "imputation/gap_imputation.h"
 #include "test_support.h"
 
@@ -117,9 +119,12 @@ TEST_CASE("adapting the blend to a motion follows what its probes say about the 
   ImputationBlend calibrated;
   calibrated.refiner.assign(kRefinerGapBuckets, 0.5);
   calibrated.local.assign(kRefinerGapBuckets, 0.0);
-  const ImputationBlend trusting = AdaptBlend(calibrated, ProbeBlendSums(sk, f, oracle), 0.01);
-  const ImputationBlend doubting = AdaptBlend(calibrated, ProbeBlendSums(sk, f, off), 0.01);
-  const ImputationBlend kept = AdaptBlend(calibrated, ProbeBlendSums(sk, f, off), 1e12);
+  const ImputationBlend trusting =
+      AdaptBlend(calibrated, ProbeBlendSums(FillRefinerProbes(sk, f, oracle), f), 0.01);
+  const ImputationBlend doubting =
+      AdaptBlend(calibrated, ProbeBlendSums(FillRefinerProbes(sk, f, off), f), 0.01);
+  const ImputationBlend kept =
+      AdaptBlend(calibrated, ProbeBlendSums(FillRefinerProbes(sk, f, off), f), 1e12);
   int reached = 0;
   for (int k = 0; k < kRefinerGapBuckets; ++k) {
     if (trusting.refiner[k] == 0.5 && doubting.refiner[k] == 0.5) continue;  // no probe here
@@ -139,4 +144,60 @@ TEST_CASE("adapting the blend to a motion follows what its probes say about the 
   };
   CHECK(error(trusting) < error(calibrated));
   CHECK_THROWS_AS(AdaptBlend(calibrated, BucketSums(3), 1), std::invalid_argument);
+}
+
+TEST_CASE("adapting the bones' share: none where the fill is already closer than their spread") {
+  // root -> elbow -> hand circling the elbow at 0.3 m, each hand coordinate off by up to 0.15 mm
+  // (rigid by kRigidSpread), and a refiner that knows the motion: the bones' correction only
+  // moves the fill off the truth.
+  const Skeleton sk = Skeleton::FromParents("arm", {"root", "elbow", "hand"}, {-1, 0, 1});
+  const int T = 60, J = 3;
+  std::vector<float> p;
+  for (int t = 0; t < T; ++t) {
+    const double a = 0.2 * t, jitter = 0.00015 * ((t * 7 % 5) / 2.0 - 1.0);
+    p.insert(p.end(), {0, 0, 0, 0, 1, 0, float(0.3 * std::cos(a) + jitter),
+                       float(1 + 0.3 * std::sin(a) - jitter), float(jitter)});
+  }
+  const std::vector<float> truth = RootRelative(p, J);
+  std::vector<uint8_t> missing(p.size(), 0);
+  for (int t = 20; t < 25; ++t)
+    for (int a = 0; a < 3; ++a) missing[(static_cast<size_t>(t) * J + 2) * 3 + a] = 1;
+  REQUIRE(ObservedBones(sk, p, missing)[2].rigid());
+  const RefinerFills f = MakeRefinerFills(sk, p, missing, std::vector<float>(J * 3, 0.0f));
+  const std::vector<RefinerProbe> probes =
+      FillRefinerProbes(sk, f, [&](const RefinerFills&) { return truth; });
+  REQUIRE(probes.size() == 4);
+  ImputationBlend blend;
+  blend.refiner.assign(kRefinerGapBuckets, 1.0);
+  blend.local.assign(kRefinerGapBuckets, 0.0);
+  blend.keep_bones = true;
+  const ImputationBlend adapted = AdaptBones(sk, blend, probes, f, 0.01);
+  const ImputationBlend pulled = AdaptBones(sk, blend, probes, f, 1e12);
+  REQUIRE(adapted.bones.size() == static_cast<size_t>(kRefinerGapBuckets));
+  int reached = 0;
+  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+    CHECK(pulled.bones[k] == Approx(1).margin(1e-6));
+    if (adapted.bones[k] == 1.0) continue;  // no probe here
+    ++reached;
+    CHECK(adapted.bones[k] < 0.1);
+  }
+  CHECK(reached > 0);
+  // A straight line cuts the circle's chord: there the bones' correction is wanted.
+  const ImputationBlend chord = AdaptBones(
+      sk, blend, FillRefinerProbes(sk, f, [](const RefinerFills& x) { return x.linear; }), f, 0.01);
+  CHECK(*std::max_element(chord.bones.begin(), chord.bones.end()) > 0.5);
+  // ... and the real gap comes out closer with the adapted share than without the bones.
+  auto error = [&](const ImputationBlend& b) {
+    const std::vector<float> out = BlendRefinerFills(sk, f, f.linear, b);
+    double sum = 0;
+    for (size_t i = 0; i < out.size(); ++i)
+      if (f.mask[i]) sum += std::pow(double(out[i]) - truth[i], 2);
+    return sum;
+  };
+  ImputationBlend loose = chord;
+  loose.keep_bones = false;
+  CHECK(error(chord) < error(loose));
+  // Without keep_bones nothing is fitted.
+  blend.keep_bones = false;
+  CHECK(AdaptBones(sk, blend, probes, f, 0.01).bones.empty());
 }

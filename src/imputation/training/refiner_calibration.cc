@@ -102,7 +102,8 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
   for_each_fill("calibrating on held-out clips",
                 [&](size_t c, size_t s, const std::vector<float>& clean, const RefinerFills& f,
                     const std::vector<float>& refined) {
-                  Item it{c, s, BucketSums(kRefinerGapBuckets), ProbeBlendSums(skeleton, f, raw)};
+                  Item it{c, s, BucketSums(kRefinerGapBuckets),
+                          ProbeBlendSums(FillRefinerProbes(skeleton, f, raw), f)};
                   AddBlendSums(f, refined, clean, f.mask, &it.real);
                   for (int k = 0; k < kRefinerGapBuckets; ++k) {
                     values[s] += it.real[k].values;
@@ -150,12 +151,11 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
   ImputationBlend with_bones = out.blend;
   with_bones.keep_bones = true;
   std::vector<double> kept(settings.size(), 0.0);
-  size_t next = 0;
   for_each_fill("keeping bone lengths on held-out clips",
                 [&](size_t, size_t s, const std::vector<float>& clean, const RefinerFills& f,
                     const std::vector<float>& refined) {
-                  const std::vector<float> k =
-                      BlendRefinerFills(skeleton, f, refined, ItemBlend(with_bones, items[next++]));
+                  const std::vector<float> k = BlendRefinerFills(
+                      skeleton, f, refined, AdaptToMotion(skeleton, f, raw, with_bones));
                   for (size_t i = 0; i < k.size(); ++i)
                     if (f.mask[i]) kept[s] += std::pow(double(k[i]) - clean[i], 2);
                 });
