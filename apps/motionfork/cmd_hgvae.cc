@@ -117,7 +117,8 @@ bundle with its refiner (impute start 'refiner'). Early stopping; resumable.)";
       hg, global, RunHgvaeCalibrate, "calibrate",
       R"(Fit how much of the refiner's correction and of a local polynomial's to keep per kind of
 missing value (gap length x edge speed x how crowded the frame is), whether to keep bone lengths,
-and how far to adapt those weights to each motion (refiner_adapt_values, chosen by cross-fitting),
+and how far to adapt those weights to each motion (refiner_adapt_values, per gap length, chosen by
+cross-fitting),
 on the training clips the refiner held out (the config's split), every standard gap setting drawn
 on each; OUT: the bundle with them (refiner_weights, refiner_local_weights, ...).)");
   cal->add_option("--config", c->config, "Config name or YAML path (default hgvae_bandai)");

@@ -1,5 +1,6 @@
 #include "bundle/hgvae_bundle.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -80,7 +81,7 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
 
 // refiner_weights and refiner_local_weights: [kRefinerGapBuckets finite numbers] (absent: none;
 // the first >= 0), refiner_keep_bones: a bool (absent: false), refiner_adapt_values: a finite
-// number >= 0 (absent: 0); only with a refiner.
+// number >= 0 or kRefinerGapLengths of them (absent: 0); only with a refiner.
 void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
   for (const char* key :
        {"refiner_weights", "refiner_local_weights", "refiner_keep_bones", "refiner_adapt_values"}) {
@@ -104,12 +105,17 @@ void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, Hg
   weights("refiner_local_weights", false, &m->refiner_local_weights);
   if (root["refiner_keep_bones"])
     m->refiner_keep_bones = Get<bool>(file, root, "refiner_keep_bones");
-  if (root["refiner_adapt_values"]) {
-    m->refiner_adapt_values = Get<double>(file, root, "refiner_adapt_values");
-    if (!(std::isfinite(m->refiner_adapt_values) && m->refiner_adapt_values >= 0)) {
-      Fail(file, root["refiner_adapt_values"],
-           "refiner_adapt_values: expected a finite number >= 0, found " +
-               std::to_string(m->refiner_adapt_values));
+  if (const YAML::Node n = root["refiner_adapt_values"]) {
+    m->refiner_adapt_values =
+        n.IsSequence() ? Get<std::vector<double>>(file, root, "refiner_adapt_values")
+                       : std::vector<double>{Get<double>(file, root, "refiner_adapt_values")};
+    const std::vector<double>& v = m->refiner_adapt_values;
+    if (!(v.size() == 1 || v.size() == size_t{kRefinerGapLengths}) ||
+        !std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x) && x >= 0; })) {
+      Fail(file, n,
+           "refiner_adapt_values: expected a finite number >= 0 or " +
+               std::to_string(kRefinerGapLengths) + " of them (one per gap length), found " +
+               (v.size() == 1 ? std::to_string(v[0]) : std::to_string(v.size()) + " numbers"));
     }
   }
 }
@@ -245,8 +251,11 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
               << m.refiner_local_weights;
         }
         if (m.refiner_keep_bones) out << YAML::Key << "refiner_keep_bones" << YAML::Value << true;
-        if (m.refiner_adapt_values > 0) {
-          out << YAML::Key << "refiner_adapt_values" << YAML::Value << m.refiner_adapt_values;
+        const std::vector<double>& adapt = m.refiner_adapt_values;
+        if (adapt.size() == 1 && adapt[0] > 0) {
+          out << YAML::Key << "refiner_adapt_values" << YAML::Value << adapt[0];
+        } else if (adapt.size() > 1) {
+          out << YAML::Key << "refiner_adapt_values" << YAML::Value << YAML::Flow << adapt;
         }
       });
 }
@@ -266,7 +275,7 @@ std::string HgvaeSignature(const HgvaeManifest& m) {
   s.refiner_weights.clear();
   s.refiner_local_weights.clear();
   s.refiner_keep_bones = false;
-  s.refiner_adapt_values = 0;
+  s.refiner_adapt_values.clear();
   s.info.clear();
   return FormatHgvaeManifest(s);
 }

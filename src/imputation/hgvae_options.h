@@ -147,8 +147,9 @@ struct HgvaeManifest {
   std::vector<double> refiner_local_weights;
   bool refiner_keep_bones = false;
   // > 0: those weights are adapted to each motion by probes of its own observed values, pulled
-  // towards them as if by this many values (refiner_adaptation.h); 0: used as they are.
-  double refiner_adapt_values = 0;
+  // towards them as if by this many values (refiner_adaptation.h); 0: used as they are. One value
+  // for every bucket or one per gap length class (ImputationBlend::adapt_values); empty: none.
+  std::vector<double> refiner_adapt_values;
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

@@ -7,36 +7,81 @@
 
 namespace motionfork {
 
+namespace {
+
+// A run of missing frames of one coordinate: frames [first, first + length).
+struct MissingRun {
+  int coord = 0, first = 0, length = 0;
+};
+
+std::vector<MissingRun> MissingRuns(const RefinerFills& f) {
+  std::vector<MissingRun> runs;
+  for (int v = 0; v < f.coords; ++v) {
+    for (int t = 0; t < f.frames;) {
+      if (!f.mask[static_cast<size_t>(t) * f.coords + v]) {
+        ++t;
+        continue;
+      }
+      int end = t;
+      while (end < f.frames && f.mask[static_cast<size_t>(end) * f.coords + v]) ++end;
+      runs.push_back({v, t, end - t});
+      t = end;
+    }
+  }
+  return runs;
+}
+
+}  // namespace
+
 std::vector<std::vector<uint8_t>> RefinerProbes(const RefinerFills& f) {
   const int N = f.coords, T = f.frames;
   if (N <= 0 || T <= 0 || f.mask.size() != static_cast<size_t>(T) * N)
     throw std::invalid_argument("RefinerProbes: expected one window of fills");
-  auto missing = [&](int t, int v) { return f.mask[static_cast<size_t>(t) * N + v] != 0; };
-  int longest = 0;  // the longest run of missing frames of a coordinate observed somewhere
-  for (int v = 0; v < N; ++v) {
-    int run = 0, most = 0;
-    for (int t = 0; t < T; ++t) {
-      run = missing(t, v) ? run + 1 : 0;
-      most = std::max(most, run);
-    }
-    if (most < T) longest = std::max(longest, most);
-  }
+  auto at = [N](int t, int v) { return static_cast<size_t>(t) * N + v; };
+  std::vector<MissingRun> runs = MissingRuns(f);
+  runs.erase(
+      std::remove_if(runs.begin(), runs.end(), [T](const MissingRun& r) { return r.length >= T; }),
+      runs.end());  // a coordinate never observed has nothing to hide
+  int longest = 0;
+  for (const MissingRun& r : runs) longest = std::max(longest, r.length);
   std::vector<std::vector<uint8_t>> probes;
   if (longest == 0) return probes;
-  const int d = longest + 1;
+  const int d = longest + 1, period = 5 * d;
   for (int shift : {d, -d, 2 * d, -2 * d}) {
     if (std::abs(shift) >= T) continue;
     std::vector<uint8_t> hide(f.mask.size(), 0);
-    bool any = false;
-    for (int t = std::max(0, shift); t < std::min(T, T + shift); ++t) {
-      for (int v = 0; v < N; ++v) {
-        if (!missing(t, v) && missing(t - shift, v)) {
-          hide[static_cast<size_t>(t) * N + v] = 1;
-          any = true;
+    int64_t hidden = 0;
+    for (const MissingRun& r : runs) {  // the pattern shifted, wherever it lands on observed values
+      for (int t = std::max(0, r.first + shift); t < std::min(T, r.first + r.length + shift); ++t) {
+        if (!f.mask[at(t, r.coord)] && !hide[at(t, r.coord)]) {
+          hide[at(t, r.coord)] = 1;
+          ++hidden;
         }
       }
     }
-    if (any) probes.push_back(std::move(hide));
+    // Sparse masks: more copies, `period` apart, nearest first, each run kept only where it lands
+    // whole and d frames clear of every missing or already hidden value and of the motion's ends.
+    std::vector<MissingRun> accepted;
+    for (int m = 1; hidden < kProbeValues && m * period - std::abs(shift) < T; ++m) {
+      for (const int copy : {shift + m * period, shift - m * period}) {
+        accepted.clear();
+        for (const MissingRun& r : runs) {
+          const int first = r.first + copy, last = first + r.length - 1;
+          if (first - d < 0 || last + d >= T) continue;
+          bool clear = true;
+          for (int t = first - d; t <= last + d && clear; ++t)
+            clear = !f.mask[at(t, r.coord)] && !hide[at(t, r.coord)];
+          if (clear) accepted.push_back({r.coord, first, r.length});
+        }
+        for (const MissingRun& r : accepted) {
+          for (int t = r.first; t < r.first + r.length; ++t) {
+            hidden += hide[at(t, r.coord)] == 0;
+            hide[at(t, r.coord)] = 1;
+          }
+        }
+      }
+    }
+    if (hidden > 0) probes.push_back(std::move(hide));
   }
   return probes;
 }
@@ -80,8 +125,7 @@ BucketSums ProbeBlendSums(const std::vector<RefinerProbe>& probes, const Refiner
   return sums;
 }
 
-ImputationBlend AdaptBlend(const ImputationBlend& blend, const BucketSums& probes,
-                           double prior_values) {
+ImputationBlend AdaptBlend(const ImputationBlend& blend, const BucketSums& probes) {
   if (probes.size() != static_cast<size_t>(kRefinerGapBuckets)) {
     throw std::invalid_argument("AdaptBlend: expected sums for " +
                                 std::to_string(kRefinerGapBuckets) + " buckets, got " +
@@ -93,14 +137,14 @@ ImputationBlend AdaptBlend(const ImputationBlend& blend, const BucketSums& probe
   for (int k = 0; k < kRefinerGapBuckets; ++k) {
     const double a0 = blend.refiner.empty() ? 1.0 : blend.refiner[k];
     const double b0 = blend.local.empty() ? 0.0 : blend.local[k];
-    std::tie(out.refiner[k], out.local[k]) = BestBlendWeights(probes[k], a0, b0, prior_values);
+    std::tie(out.refiner[k], out.local[k]) =
+        BestBlendWeights(probes[k], a0, b0, AdaptValues(blend, k));
   }
   return out;
 }
 
 ImputationBlend AdaptBones(const Skeleton& skeleton, const ImputationBlend& blend,
-                           const std::vector<RefinerProbe>& probes, const RefinerFills& f,
-                           double prior_values) {
+                           const std::vector<RefinerProbe>& probes, const RefinerFills& f) {
   if (!blend.keep_bones) return blend;
   ImputationBlend loose = blend, rigid = blend;
   loose.keep_bones = false;
@@ -121,18 +165,17 @@ ImputationBlend AdaptBones(const Skeleton& skeleton, const ImputationBlend& blen
   out.bones.assign(kRefinerGapBuckets, 1.0);
   for (int k = 0; k < kRefinerGapBuckets; ++k) {
     const double prior = blend.bones.empty() ? 1.0 : blend.bones[k];
-    out.bones[k] = BestBlendWeights(sums[k], prior, 0.0, prior_values).first;
+    out.bones[k] = BestBlendWeights(sums[k], prior, 0.0, AdaptValues(blend, k)).first;
   }
   return out;
 }
 
 ImputationBlend AdaptToMotion(const Skeleton& skeleton, const RefinerFills& f,
                               const RawRefiner& refine, const ImputationBlend& blend) {
-  if (!(blend.adapt_values > 0)) return blend;
+  if (!AdaptsToMotion(blend)) return blend;
   const std::vector<RefinerProbe> probes = FillRefinerProbes(skeleton, f, refine);
   if (probes.empty()) return blend;
-  const ImputationBlend adapted = AdaptBlend(blend, ProbeBlendSums(probes, f), blend.adapt_values);
-  return AdaptBones(skeleton, adapted, probes, f, blend.adapt_values);
+  return AdaptBones(skeleton, AdaptBlend(blend, ProbeBlendSums(probes, f)), probes, f);
 }
 
 }  // namespace motionfork

@@ -153,6 +153,24 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
   return out;
 }
 
+double AdaptValues(const ImputationBlend& blend, int bucket) {
+  const std::vector<double>& v = blend.adapt_values;
+  if (v.empty()) return 0;
+  if (v.size() == 1) return v[0];
+  if (v.size() != static_cast<size_t>(kRefinerGapLengths) || bucket < 0 ||
+      bucket >= kRefinerGapBuckets) {
+    throw std::invalid_argument("adapt values: expected 1 or " +
+                                std::to_string(kRefinerGapLengths) + " (one per gap length), got " +
+                                std::to_string(v.size()));
+  }
+  return v[bucket / (kRefinerGapBuckets / kRefinerGapLengths)];
+}
+
+bool AdaptsToMotion(const ImputationBlend& blend) {
+  return std::any_of(blend.adapt_values.begin(), blend.adapt_values.end(),
+                     [](double v) { return v > 0; });
+}
+
 void AppendRefinerFills(const RefinerFills& f, RefinerFills* all) {
   all->frames = f.frames;
   all->coords = f.coords;

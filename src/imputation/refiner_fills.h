@@ -38,6 +38,7 @@ struct RefinerFills {
 // more than a quarter of its frame's values are missing (the context a gap has around it).
 // Bucket = (3 * length class + speed class) * 2 + crowded.
 constexpr int kRefinerGapBuckets = 48;
+constexpr int kRefinerGapLengths = 8;  // the length classes; a bucket's is bucket / 6
 constexpr float kRefinerSlow = 0.003f, kRefinerFast = 0.015f;
 int RefinerGapBucket(float before, float after, float edge_speed, bool crowded_frame);
 std::string RefinerGapBucketName(int bucket);  // "gap 3-4, slow, sparse"
@@ -63,9 +64,14 @@ struct ImputationBlend {
   // With keep_bones, how much of the bones' correction each bucket takes (empty: all of it).
   std::vector<double> bones;
   // > 0: a, b and the bones' share are first adapted to the motion (refiner_adaptation.h), pulled
-  // towards the weights above as if by this many values; 0: used as they are.
-  double adapt_values = 0;
+  // towards the weights above as if by this many values; 0: used as they are. One value for every
+  // bucket, or one per gap length class [kRefinerGapLengths]; empty: 0.
+  std::vector<double> adapt_values;
 };
+// blend.adapt_values for bucket k (throws std::invalid_argument on another number of values).
+double AdaptValues(const ImputationBlend& blend, int bucket);
+// Whether any bucket is adapted.
+bool AdaptsToMotion(const ImputationBlend& blend);
 // f holds one window (f.frames rows); refined: the refiner's output for it, [T, N] metres
 // root-relative. Returns the blended [T, N] (observed values as refined holds them).
 std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFills& f,

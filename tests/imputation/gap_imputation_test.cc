@@ -238,15 +238,22 @@ TEST_CASE(
   CHECK(calibrated <= refiner + 1e-9);
   CHECK(calibrated <= spline + 1e-9);
   CHECK(c.blend.keep_bones == (bones < adapted));
-  // Every prior was scored and the lowest cross-fitted sum chosen (0: no adaptation).
+  // Every prior was scored; each gap length class took the one with its lowest cross-fitted sum,
+  // which together are at most the best single prior's (0: no adaptation).
   REQUIRE(c.adapt_scores.size() == std::size(kAdaptPriors));
+  REQUIRE(c.length_priors.size() == static_cast<size_t>(kRefinerGapLengths));
+  double best = INFINITY;
   for (const auto& [prior, score] : c.adapt_scores) {
     CHECK(std::isfinite(score));
-    if (prior == c.blend.adapt_values) {
-      for (const auto& other : c.adapt_scores) CHECK(score <= other.second);
-    }
+    best = std::min(best, score);
   }
-  if (c.blend.adapt_values == 0) CHECK(adapted == Approx(calibrated).epsilon(1e-9));
+  CHECK(c.length_score <= best + 1e-9);
+  for (int k = 0; k < kRefinerGapBuckets; ++k)
+    CHECK(AdaptValues(c.blend, k) == c.length_priors[k / 6]);
+  if (!AdaptsToMotion(c.blend)) {
+    CHECK(c.blend.adapt_values.empty());
+    CHECK(adapted == Approx(calibrated).epsilon(1e-9));
+  }
   for (double w : c.blend.refiner) CHECK((w >= 0 && w <= 1));
   for (double w : c.blend.local) CHECK((w >= 0 && w <= 1));
   HgvaeManifest cm;
@@ -260,7 +267,7 @@ TEST_CASE(
   cm.refiner_weights.assign(kRefinerGapBuckets, 0.0);
   cm.refiner_local_weights.assign(kRefinerGapBuckets, 0.0);
   cm.refiner_keep_bones = false;
-  cm.refiner_adapt_values = 0;
+  cm.refiner_adapt_values.clear();
   const HgvaeModel zero = HgvaeModel::FromNet(cm, net);
   const std::vector<uint8_t> mask = GapMask({"arm gap", 0, {11, 12, 13}, 12}, 50, 17, 5);
   const RefinerFills f =
@@ -281,7 +288,7 @@ TEST_CASE(
   CHECK(again.refiner_keep_bones);
   // Adapted to the motion: the observed values stay as they are, the missing ones move off the
   // local polynomial where the probes say so; the prior round-trips, a negative one is refused.
-  cm.refiner_adapt_values = 10;
+  cm.refiner_adapt_values = {10};
   const std::vector<float> adapted_fill = HgvaeModel::FromNet(cm, net).Refine(f);
   for (size_t i = 0; i < f.mask.size(); ++i) {
     REQUIRE(std::isfinite(adapted_fill[i]));
@@ -289,12 +296,25 @@ TEST_CASE(
   }
   {
     std::ofstream(dir.file("again.yaml")) << FormatHgvaeManifest(cm);
-    CHECK(LoadHgvaeManifest(dir.file("again.yaml")).refiner_adapt_values == 10);
-    std::string negative = FormatHgvaeManifest(cm);
-    negative.replace(negative.find("refiner_adapt_values: 10"), 24, "refiner_adapt_values: -1");
-    std::ofstream(dir.file("negative.yaml")) << negative;
-    CHECK_THROWS_WITH(LoadHgvaeManifest(dir.file("negative.yaml")),
-                      Catch::Contains("refiner_adapt_values: expected a finite number >= 0"));
+    CHECK(LoadHgvaeManifest(dir.file("again.yaml")).refiner_adapt_values ==
+          std::vector<double>{10});
+    const std::string text = FormatHgvaeManifest(cm);
+    auto refused = [&](const std::string& value) {
+      std::string edited = text;
+      edited.replace(edited.find("refiner_adapt_values: 10"), 24, "refiner_adapt_values: " + value);
+      std::ofstream(dir.file("edited.yaml")) << edited;
+      CHECK_THROWS_WITH(LoadHgvaeManifest(dir.file("edited.yaml")),
+                        Catch::Contains("refiner_adapt_values: expected a finite number >= 0"));
+    };
+    refused("-1");
+    refused("[1, 2, 3]");  // neither one value nor one per gap length
+    refused("[1, 2, 3, 4, 5, 6, 7, -8]");
+    // One per gap length round-trips as a list.
+    cm.refiner_adapt_values = {0, 3, 10, 30, 100, 300, 1000, 100};
+    std::ofstream(dir.file("again.yaml")) << FormatHgvaeManifest(cm);
+    CHECK(LoadHgvaeManifest(dir.file("again.yaml")).refiner_adapt_values ==
+          cm.refiner_adapt_values);
+    cm.refiner_adapt_values = {10};
   }
   double moved = 0;
   for (size_t i = 0; i < local.size(); ++i) moved += std::abs(local[i] - f.spline[i]);

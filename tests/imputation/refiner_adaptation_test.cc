@@ -22,6 +22,11 @@ BlendSums Repeated(int n, double e, double c, double l) {
   return s;
 }
 
+ImputationBlend WithPrior(ImputationBlend b, double values) {
+  b.adapt_values = {values};
+  return b;
+}
+
 // Root-relative coordinates without the root of positions [T, J, 3].
 std::vector<float> RootRelative(const std::vector<float>& p, int J) {
   const size_t F = static_cast<size_t>(J) * 3, T = p.size() / F, N = F - 3;
@@ -77,7 +82,10 @@ TEST_CASE("probe masks hide observed values in the pattern of the missing ones")
   const RefinerFills f = MakeRefinerFills(sk, motion.positions(), missing, fallback);
   const std::vector<std::vector<uint8_t>> probes = RefinerProbes(f);
   REQUIRE(probes.size() == 4);  // shifts +4, -4, +8, -8
-  const int first[] = {14, 6, 18, 2};
+  // Each probe hides fewer than kProbeValues values, so copies 20 frames (5 d) further are added
+  // where they land whole, 4 frames clear of the gap, the hidden values and the motion's ends:
+  // -4 + 20 and -8 + 20 do; +4 + 20 and +8 + 20 would end within 4 frames of the end.
+  const std::vector<std::vector<int>> firsts = {{14}, {6, 26}, {18}, {2, 22}};
   for (size_t p = 0; p < probes.size(); ++p) {
     INFO("probe " << p);
     int hidden = 0;
@@ -86,18 +94,84 @@ TEST_CASE("probe masks hide observed values in the pattern of the missing ones")
         const size_t i = static_cast<size_t>(t) * N + v;
         if (!probes[p][i]) continue;
         ++hidden;
-        CHECK_FALSE(f.mask[i]);                      // only observed values are hidden
-        CHECK(v / 3 + 1 == 5);                       // of the joint with the gap
-        CHECK((t >= first[p] && t < first[p] + 3));  // as long as the gap, shifted
+        CHECK_FALSE(f.mask[i]);  // only observed values are hidden
+        CHECK(v / 3 + 1 == 5);   // of the joint with the gap
+        CHECK(std::any_of(firsts[p].begin(), firsts[p].end(), [t](int first) {
+          return t >= first && t < first + 3;  // as long as the gap, shifted
+        }));
       }
     }
-    CHECK(hidden == 9);
+    CHECK(hidden == 9 * static_cast<int>(firsts[p].size()));
   }
   // Nothing missing, or only whole coordinates: no probes.
   std::vector<uint8_t> whole(missing.size(), 0);
   for (int t = 0; t < T; ++t)
     for (int a = 0; a < 3; ++a) whole[(static_cast<size_t>(t) * J + 7) * 3 + a] = 1;
   CHECK(RefinerProbes(MakeRefinerFills(sk, motion.positions(), whole, fallback)).empty());
+}
+
+TEST_CASE("probe masks of a sparse mask add copies of its gaps, each clear of the others") {
+  const int T = 3000;
+  const Motion motion = testing::MakeWalkingMotion(T, 30, 5);
+  const Skeleton& sk = motion.skeleton();
+  const int J = sk.num_joints(), N = 3 * (J - 1);
+  const std::vector<float> fallback(static_cast<size_t>(J) * 3, 0.0f);
+  // One 8-frame gap of a joint: 24 values; d = 9, copies 45 frames apart.
+  const std::vector<uint8_t> gap = GapMask({"hand gap", 0, {5}, 8}, T, J, /*seed=*/2);
+  const RefinerFills f = MakeRefinerFills(sk, motion.positions(), gap, fallback);
+  const std::vector<std::vector<uint8_t>> probes = RefinerProbes(f);
+  REQUIRE(probes.size() == 4);
+  const int d = 9;
+  auto near = [&](const std::vector<uint8_t>& m, int t, int v) {  // anything within d frames
+    for (int u = std::max(0, t - d); u <= std::min(T - 1, t + d); ++u)
+      if (m[static_cast<size_t>(u) * N + v]) return true;
+    return false;
+  };
+  for (const std::vector<uint8_t>& hide : probes) {
+    int hidden = 0, runs = 0, off_pattern = 0;
+    for (int t = 0; t < T; ++t) {
+      for (int v = 0; v < N; ++v) {
+        const size_t i = static_cast<size_t>(t) * N + v;
+        if (!hide[i]) continue;
+        ++hidden;
+        CHECK_FALSE(f.mask[i]);
+        CHECK(v / 3 + 1 == 5);
+        if (t == 0 || !hide[i - N]) {
+          ++runs;
+          int length = 0;
+          while (t + length < T && hide[static_cast<size_t>(t + length) * N + v]) ++length;
+          CHECK(length == 8);  // every copy as long as the gap
+          // Copies beyond the first are d frames clear of the real gap.
+          if (!near(f.mask, t, v) && !near(f.mask, t + 7, v)) ++off_pattern;
+        }
+      }
+    }
+    CHECK(off_pattern >= 3 * (runs / 3 - 1));
+    CHECK(hidden == runs * 8);
+    CHECK(hidden >= kProbeValues);  // copies until kProbeValues are hidden (two at a time)
+    CHECK(hidden < kProbeValues + 48);
+  }
+  // A dense mask (random 30%) hides more than kProbeValues with the four shifts alone: no copies,
+  // so every hidden value is its shift's image of a missing one.
+  const std::vector<uint8_t> dense = GapMask({"random 30%", 0.3, {}, 0}, T, J, /*seed=*/3);
+  const RefinerFills g = MakeRefinerFills(sk, motion.positions(), dense, fallback);
+  const std::vector<std::vector<uint8_t>> dense_probes = RefinerProbes(g);
+  REQUIRE_FALSE(dense_probes.empty());
+  int longest = 0;
+  for (int v = 0; v < N; ++v)
+    for (int t = 0, run = 0; t < T; ++t) {
+      run = g.mask[static_cast<size_t>(t) * N + v] ? run + 1 : 0;
+      longest = std::max(longest, run);
+    }
+  const int shifts[] = {longest + 1, -(longest + 1), 2 * (longest + 1), -2 * (longest + 1)};
+  for (size_t p = 0; p < dense_probes.size(); ++p)
+    for (int t = 0; t < T; ++t)
+      for (int v = 0; v < N; ++v)
+        if (dense_probes[p][static_cast<size_t>(t) * N + v]) {
+          const int u = t - shifts[p];
+          REQUIRE((u >= 0 && u < T));
+          CHECK(g.mask[static_cast<size_t>(u) * N + v]);
+        }
 }
 
 TEST_CASE("adapting the blend to a motion follows what its probes say about the refiner") {
@@ -120,11 +194,11 @@ TEST_CASE("adapting the blend to a motion follows what its probes say about the 
   calibrated.refiner.assign(kRefinerGapBuckets, 0.5);
   calibrated.local.assign(kRefinerGapBuckets, 0.0);
   const ImputationBlend trusting =
-      AdaptBlend(calibrated, ProbeBlendSums(FillRefinerProbes(sk, f, oracle), f), 0.01);
+      AdaptBlend(WithPrior(calibrated, 0.01), ProbeBlendSums(FillRefinerProbes(sk, f, oracle), f));
   const ImputationBlend doubting =
-      AdaptBlend(calibrated, ProbeBlendSums(FillRefinerProbes(sk, f, off), f), 0.01);
+      AdaptBlend(WithPrior(calibrated, 0.01), ProbeBlendSums(FillRefinerProbes(sk, f, off), f));
   const ImputationBlend kept =
-      AdaptBlend(calibrated, ProbeBlendSums(FillRefinerProbes(sk, f, off), f), 1e12);
+      AdaptBlend(WithPrior(calibrated, 1e12), ProbeBlendSums(FillRefinerProbes(sk, f, off), f));
   int reached = 0;
   for (int k = 0; k < kRefinerGapBuckets; ++k) {
     if (trusting.refiner[k] == 0.5 && doubting.refiner[k] == 0.5) continue;  // no probe here
@@ -134,6 +208,29 @@ TEST_CASE("adapting the blend to a motion follows what its probes say about the 
     CHECK(kept.refiner[k] == Approx(0.5).margin(1e-6));
   }
   CHECK(reached > 0);
+  // A prior per gap length: the 6-frame gap's class (5-8 frames) held by a huge one, the others
+  // free: that class keeps the calibrated weight, the others move as before.
+  ImputationBlend per_length = calibrated;
+  per_length.adapt_values.assign(kRefinerGapLengths, 0.01);
+  per_length.adapt_values[3] = 1e12;
+  const ImputationBlend held =
+      AdaptBlend(per_length, ProbeBlendSums(FillRefinerProbes(sk, f, oracle), f));
+  int held_buckets = 0;
+  for (int k = 0; k < kRefinerGapBuckets; ++k) {
+    if (trusting.refiner[k] == 0.5) continue;
+    if (k / 6 == 3) {
+      ++held_buckets;
+      CHECK(held.refiner[k] == Approx(0.5).margin(1e-6));
+    } else {
+      CHECK(held.refiner[k] == trusting.refiner[k]);
+    }
+  }
+  CHECK(held_buckets > 0);
+  per_length.adapt_values[3] = 0.01;
+  CHECK(AdaptBlend(per_length, ProbeBlendSums(FillRefinerProbes(sk, f, oracle), f)).refiner ==
+        trusting.refiner);
+  per_length.adapt_values.resize(3);
+  CHECK_THROWS_AS(AdaptValues(per_length, 0), std::invalid_argument);
   // Blended with the adapted weights, the oracle's fill beats the calibrated blend's.
   auto error = [&](const ImputationBlend& b) {
     const std::vector<float> out = BlendRefinerFills(sk, f, oracle(f), b);
@@ -143,7 +240,7 @@ TEST_CASE("adapting the blend to a motion follows what its probes say about the 
     return sum;
   };
   CHECK(error(trusting) < error(calibrated));
-  CHECK_THROWS_AS(AdaptBlend(calibrated, BucketSums(3), 1), std::invalid_argument);
+  CHECK_THROWS_AS(AdaptBlend(WithPrior(calibrated, 1), BucketSums(3)), std::invalid_argument);
 }
 
 TEST_CASE("adapting the bones' share: none where the fill is already closer than their spread") {
@@ -171,8 +268,8 @@ TEST_CASE("adapting the bones' share: none where the fill is already closer than
   blend.refiner.assign(kRefinerGapBuckets, 1.0);
   blend.local.assign(kRefinerGapBuckets, 0.0);
   blend.keep_bones = true;
-  const ImputationBlend adapted = AdaptBones(sk, blend, probes, f, 0.01);
-  const ImputationBlend pulled = AdaptBones(sk, blend, probes, f, 1e12);
+  const ImputationBlend adapted = AdaptBones(sk, WithPrior(blend, 0.01), probes, f);
+  const ImputationBlend pulled = AdaptBones(sk, WithPrior(blend, 1e12), probes, f);
   REQUIRE(adapted.bones.size() == static_cast<size_t>(kRefinerGapBuckets));
   int reached = 0;
   for (int k = 0; k < kRefinerGapBuckets; ++k) {
@@ -183,8 +280,9 @@ TEST_CASE("adapting the bones' share: none where the fill is already closer than
   }
   CHECK(reached > 0);
   // A straight line cuts the circle's chord: there the bones' correction is wanted.
-  const ImputationBlend chord = AdaptBones(
-      sk, blend, FillRefinerProbes(sk, f, [](const RefinerFills& x) { return x.linear; }), f, 0.01);
+  const ImputationBlend chord =
+      AdaptBones(sk, WithPrior(blend, 0.01),
+                 FillRefinerProbes(sk, f, [](const RefinerFills& x) { return x.linear; }), f);
   CHECK(*std::max_element(chord.bones.begin(), chord.bones.end()) > 0.5);
   // ... and the real gap comes out closer with the adapted share than without the bones.
   auto error = [&](const ImputationBlend& b) {
@@ -199,5 +297,5 @@ TEST_CASE("adapting the bones' share: none where the fill is already closer than
   CHECK(error(chord) < error(loose));
   // Without keep_bones nothing is fitted.
   blend.keep_bones = false;
-  CHECK(AdaptBones(sk, blend, probes, f, 0.01).bones.empty());
+  CHECK(AdaptBones(sk, WithPrior(blend, 0.01), probes, f).bones.empty());
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <tuple>
 
@@ -54,9 +55,9 @@ ImputationBlend FitBlend(const std::vector<Item>& items, size_t settings, const 
   return blend;
 }
 
-// The blend an item's motion gets: adapted to its probes when adapt_values > 0.
+// The blend an item's motion gets: adapted to its probes where adapt_values says so.
 ImputationBlend ItemBlend(const ImputationBlend& blend, const Item& it) {
-  return blend.adapt_values > 0 ? AdaptBlend(blend, it.probes, blend.adapt_values) : blend;
+  return AdaptsToMotion(blend) ? AdaptBlend(blend, it.probes) : blend;
 }
 
 }  // namespace
@@ -129,24 +130,45 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
   };
   out.blend = FitBlend(items, settings.size(), [](const Item&) { return true; });
   // How much to adapt to each motion, cross-fitted: the weights fitted on one half of the clips,
-  // adapted on the other half with each prior, scored there.
+  // adapted on the other half with each prior, scored there per gap length class; each class
+  // takes its lowest (ties: the prior best over all classes).
   const ImputationBlend halves[2] = {
       FitBlend(items, settings.size(), [](const Item& it) { return it.clip % 2 == 1; }),
       FitBlend(items, settings.size(), [](const Item& it) { return it.clip % 2 == 0; })};
+  const int per_length = kRefinerGapBuckets / kRefinerGapLengths;
+  std::vector<std::vector<double>> length_scores;  // [prior][length class]
   for (const double prior : kAdaptPriors) {
-    const double score = relative(
-        [&](const Item& it) {
-          ImputationBlend b = halves[it.clip % 2];
-          b.adapt_values = prior;
-          return ItemBlend(b, it);
-        },
-        nullptr);
-    out.adapt_scores.push_back({prior, score});
+    std::vector<double> scores(kRefinerGapLengths, 0.0);
+    for (const Item& it : items) {
+      if (!(spline[it.setting] > 0)) continue;
+      ImputationBlend b = halves[it.clip % 2];
+      b.adapt_values = {prior};
+      b = ItemBlend(b, it);
+      for (int k = 0; k < kRefinerGapBuckets; ++k)
+        scores[k / per_length] +=
+            BlendSquares(it.real[k], b.refiner[k], b.local[k]) / spline[it.setting];
+    }
+    double total = 0;
+    for (double s : scores) total += s;
+    out.adapt_scores.push_back({prior, total});
+    length_scores.push_back(std::move(scores));
   }
-  out.blend.adapt_values =
+  const size_t best = static_cast<size_t>(
       std::min_element(out.adapt_scores.begin(), out.adapt_scores.end(),
-                       [](const auto& x, const auto& y) { return x.second < y.second; })
-          ->first;
+                       [](const auto& x, const auto& y) { return x.second < y.second; }) -
+      out.adapt_scores.begin());
+  for (int c = 0; c < kRefinerGapLengths; ++c) {
+    size_t pick = best;
+    for (size_t p = 0; p < length_scores.size(); ++p)
+      if (length_scores[p][c] < length_scores[pick][c]) pick = p;
+    out.length_priors.push_back(kAdaptPriors[pick]);
+    out.length_score += length_scores[pick][c];
+  }
+  out.blend.adapt_values = out.length_priors;
+  if (std::adjacent_find(out.length_priors.begin(), out.length_priors.end(),
+                         std::not_equal_to<double>()) == out.length_priors.end())
+    out.blend.adapt_values = {out.length_priors[0]};  // one for all
+  if (!AdaptsToMotion(out.blend)) out.blend.adapt_values.clear();
   // The rigid bones kept at their observed lengths: kept when that lowers the sum.
   ImputationBlend with_bones = out.blend;
   with_bones.keep_bones = true;
@@ -161,7 +183,7 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
                 });
   std::vector<double> raw_squares, calibrated, adapted;
   ImputationBlend as_is = out.blend, ones;
-  as_is.adapt_values = 0;
+  as_is.adapt_values.clear();
   ones.refiner.assign(kRefinerGapBuckets, 1.0);
   ones.local.assign(kRefinerGapBuckets, 0.0);
   relative([&](const Item&) { return ones; }, &raw_squares);
@@ -214,10 +236,14 @@ std::string RefinerCalibrationText(const RefinerCalibration& c, const std::strin
   for (const auto& [prior, score] : c.adapt_scores) {
     StringAppendf(&text, " %s %.3f", prior > 0 ? StringPrintf("%g", prior).c_str() : "off", score);
   }
-  StringAppendf(&text, "\nadapt to each motion: %s\n",
-                c.blend.adapt_values > 0
-                    ? StringPrintf("yes, prior worth %g values", c.blend.adapt_values).c_str()
-                    : "no");
+  text += "\nper gap length (1, 2, 3-4, 5-8, 9-16, 17-32, 33+, unbracketed), each its lowest:";
+  for (double prior : c.length_priors) StringAppendf(&text, " %g", prior);
+  StringAppendf(&text, " (sum %.3f)\n", c.length_score);
+  std::string priors;
+  for (double prior : c.blend.adapt_values) priors += StringPrintf(" %g", prior);
+  StringAppendf(
+      &text, "adapt to each motion: %s\n",
+      AdaptsToMotion(c.blend) ? ("yes, priors worth" + priors + " values").c_str() : "no");
   StringAppendf(&text, "keep bone lengths: %s\n", c.blend.keep_bones ? "yes" : "no");
   StringAppendf(&text, "\nRMS of the missing values (cm)\n%-28s %10s %8s %8s %10s %8s %8s\n",
                 "setting", "values", "spline", "refiner", "calibrated", "adapted", "bones");

@@ -35,6 +35,10 @@ struct RefinerCalibration {
   };
   std::vector<Setting> settings;
   std::vector<std::pair<double, double>> adapt_scores;  // per prior: its cross-fitted sum
+  // Each gap length class's prior (blend.adapt_values) chosen by its own share of those sums,
+  // and the sum they make together.
+  std::vector<double> length_priors;
+  double length_score = 0;
   int clips = 0;
 };
 
