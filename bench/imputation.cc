@@ -4,8 +4,9 @@
 //
 // Windows are the model's own samples (no data needed), 10% of their values missing. Prints the
 // time to impute one window (the interactive case: one forecaster history) and the batched
-// throughput (256 windows at once), the refiner's fill of a whole motion (a bundle with one) and
-// the scoring throughput.
+// throughput (256 windows at once), the refiner's fill of a whole motion (a bundle with one; 10%
+// missing, and one joint missing for 15 frames: a sparse mask, whose probes hold copies of the
+// gap) and the scoring throughput.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -73,7 +74,12 @@ int main(int argc, char** argv) {
                 1e3 * s, batch / s);
   }
   if (model.has_refiner()) {  // the refiner over a whole motion: the samples one after another
-    for (int windows : {1, 64}) {
+    struct Case {
+      int windows;
+      bool gap;  // one joint missing for 15 frames mid-motion instead of 10% at random
+    };
+    for (const Case c : {Case{1, false}, Case{64, false}, Case{64, true}}) {
+      const int windows = c.windows;
       const std::vector<float> poses = model.Sample(windows, -1, 4);
       const int frames = windows * T, J = N / 3 + 1;
       std::vector<float> positions(static_cast<size_t>(frames) * J * 3, 0.0f);
@@ -82,10 +88,14 @@ int main(int argc, char** argv) {
                   poses.begin() + static_cast<size_t>(t + 1) * N,
                   positions.begin() + static_cast<size_t>(t) * J * 3 + 3);
       }
-      const std::vector<uint8_t> m = RandomOcclusion(1, frames * J * 3, 0.1, 5);
-      std::vector<uint8_t> missing(m);
+      std::vector<uint8_t> missing = RandomOcclusion(1, frames * J * 3, 0.1, 5);
       for (int t = 0; t < frames; ++t)  // the root is always observed
         for (int a = 0; a < 3; ++a) missing[static_cast<size_t>(t) * J * 3 + a] = 0;
+      if (c.gap) {
+        std::fill(missing.begin(), missing.end(), 0);
+        for (int t = frames / 2; t < frames / 2 + 15; ++t)
+          for (int a = 0; a < 3; ++a) missing[(static_cast<size_t>(t) * J + J - 1) * 3 + a] = 1;
+      }
       const std::vector<float> fallback(static_cast<size_t>(J) * 3, 0.0f);
       auto fill = [&] {
         return model.Refine(MakeRefinerFills(model.skeleton(), positions, missing, fallback));
@@ -95,8 +105,10 @@ int main(int argc, char** argv) {
       auto t0 = std::chrono::steady_clock::now();
       for (int r = 0; r < reps; ++r) fill();
       const double s = Seconds(t0) / reps;
-      std::printf("refiner, a motion of %4d frames (fills included): %8.1f ms (%7.0f frames/s)\n",
-                  frames, 1e3 * s, frames / s);
+      std::printf(
+          "refiner, a motion of %4d frames, %-18s (fills included): %8.1f ms (%7.0f "
+          "frames/s)\n",
+          frames, c.gap ? "one 15-frame gap" : "10% missing", 1e3 * s, frames / s);
     }
   }
   const std::vector<float> w = model.Sample(1024, -1, 3);
