@@ -101,7 +101,8 @@ TEST_CASE("the imputation blend: spline, refiner and local polynomial by bucket,
   for (size_t i = 0; i < refined.size(); ++i)
     if (f.mask[i]) refined[i] += 0.01f;
   const std::vector<double> zeros(kRefinerGapBuckets, 0.0), ones(kRefinerGapBuckets, 1.0);
-  const std::vector<float> spline = BlendRefinerFills(sk, f, refined, {zeros, zeros, false, {}, {}});
+  const std::vector<float> spline =
+      BlendRefinerFills(sk, f, refined, {zeros, zeros, false, {}, {}});
   const std::vector<float> local = BlendRefinerFills(sk, f, refined, {zeros, ones, false, {}, {}});
   const std::vector<float> both = BlendRefinerFills(sk, f, refined, {ones, ones, false, {}, {}});
   for (size_t i = 0; i < f.mask.size(); ++i) {
