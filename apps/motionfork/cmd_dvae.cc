@@ -18,6 +18,7 @@ struct DvaeTrainCmd {
   std::string config = "dvae_bandai";
   std::string prior;
   TrainingRunFlags run;
+  bool blend_only = false;  // refine: the prior's refiner kept, its blend fitted again
 };
 
 void RunStage(DvaeStage stage, const DvaeTrainCmd& o, GlobalOptions& g) {
@@ -40,6 +41,7 @@ void RunStage(DvaeStage stage, const DvaeTrainCmd& o, GlobalOptions& g) {
           ? TrainDvae(c, DvaeTrainingManifest(c, ds.protocol, *ds.skeleton.skeleton), data, run.out,
                       cb, run.stop_after)
       : stage == DvaeStage::kFinetune ? FinetuneDvae(c, o.prior, data, run.out, cb, run.stop_after)
+      : o.blend_only                  ? RefitRefinerBlend(c, o.prior, data, run.out)
                                       : RefineDvae(c, o.prior, data, run.out, cb, run.stop_after);
   PrintText(DvaeTrainingDoneText(stage, s, run.out));
 }
@@ -53,6 +55,10 @@ void AddStage(CLI::App* dv, GlobalOptions& global, DvaeStage stage, const char* 
                   "Config name (configs/models/) or YAML path (default dvae_bandai)");
   AddTrainingRunOptions(cmd, &t->run, "Output folder (bundle, log.csv, checkpoint/)");
   if (prior) cmd->add_option("--prior", t->prior, prior)->required()->check(CLI::ExistingDirectory);
+  if (stage == DvaeStage::kRefiner) {
+    cmd->add_flag("--blend-only", t->blend_only,
+                  "Keep --prior's refiner as it is: fit only its blend and outlier repair again");
+  }
 }
 
 }  // namespace

@@ -198,11 +198,37 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
       Fail(path, root, "denoise.mode is refiner, but the bundle has no refiner");
     if (const YAML::Node b = root["refiner_blend"]) {
       if (!b.IsMap()) Fail(path, b, "refiner_blend: expected a mapping {sigma, weights, smooth}");
-      CheckKeys(path, b, "refiner_blend", {"sigma", "weights", "smooth"});
+      CheckKeys(path, b, "refiner_blend", {"sigma", "weights", "smooth", "outliers", "roughness"});
       RefinerBlend& blend = m.refiner_blend;
       blend.sigma = Get<double>(path, b, "sigma");
       blend.weights = Get<std::vector<double>>(path, b, "weights");
       blend.smooth = GetOr<double>(path, b, "smooth", 0.0);
+      if (b["roughness"]) {
+        const std::string kind = Get<std::string>(path, b, "roughness");
+        if (kind != "gaussian" && kind != "savitzky-golay") {
+          Fail(
+              path, b["roughness"],
+              "refiner_blend.roughness: expected gaussian or savitzky-golay, found '" + kind + "'");
+        }
+        blend.roughness = kind == "gaussian" ? Roughness::kGaussian : Roughness::kSavitzkyGolay;
+      }
+      if (const YAML::Node o = b["outliers"]) {
+        if (!o.IsMap())
+          Fail(path, o,
+               "refiner_blend.outliers: expected a mapping {half_window, deviations, trend}");
+        CheckKeys(path, o, "refiner_blend.outliers", {"half_window", "deviations", "trend"});
+        OutlierRepair& r = blend.outliers;
+        r.half_window = Get<int>(path, o, "half_window");
+        r.deviations = Get<double>(path, o, "deviations");
+        r.trend = GetOr<bool>(path, o, "trend", false);
+        if (r.half_window < 1 || r.half_window > 1000 || !std::isfinite(r.deviations) ||
+            r.deviations < 0) {
+          Fail(path, o,
+               "refiner_blend.outliers: expected half_window in [1, 1000] frames, deviations >= 0, "
+               "found " +
+                   std::to_string(r.half_window) + " and " + std::to_string(r.deviations));
+        }
+      }
       bool valid = m.refiner.enabled() && blend.weights.size() == size_t{kRefinerBlendBins} &&
                    std::isfinite(blend.sigma) && blend.sigma >= 0 && blend.sigma <= 100 &&
                    std::isfinite(blend.smooth) && blend.smooth >= 0 && blend.smooth <= 100;
@@ -237,6 +263,17 @@ std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& che
           // Only when set: bundles from before it re-emit as written.
           if (m.refiner_blend.smooth > 0)
             out << YAML::Key << "smooth" << YAML::Value << m.refiner_blend.smooth;
+          if (m.refiner_blend.roughness != Roughness::kGaussian) {
+            out << YAML::Key << "roughness" << YAML::Value
+                << RoughnessName(m.refiner_blend.roughness);
+          }
+          if (const OutlierRepair& r = m.refiner_blend.outliers; r.enabled()) {
+            out << YAML::Key << "outliers" << YAML::Value << YAML::Flow << YAML::BeginMap
+                << YAML::Key << "half_window" << YAML::Value << r.half_window << YAML::Key
+                << "deviations" << YAML::Value << r.deviations;
+            if (r.trend) out << YAML::Key << "trend" << YAML::Value << true;
+            out << YAML::EndMap;
+          }
           out << YAML::EndMap;
         }
       });

@@ -148,11 +148,17 @@ std::vector<std::vector<float>> DvaeModel::Denoise(
   CheckSequences(sequences, J);
   if (options.mode == DenoiseMode::kRefiner) {
     int windows = 0;
+    const RefinerBlend& blend = i.manifest.refiner_blend;
+    const bool blended = options.refiner_blend && !blend.weights.empty();
+    std::vector<std::vector<float>> repaired;
+    if (blended && blend.outliers.enabled()) {
+      for (const auto& q : sequences) repaired.push_back(RepairOutliers(q, J, blend.outliers));
+    }
+    const std::vector<std::vector<float>>& input = repaired.empty() ? sequences : repaired;
     std::vector<std::vector<float>> out = RefineSequences(
-        i.manifest, i.net, *i.norm, sequences, std::max(1, threads_), &windows, progress);
-    if (options.refiner_blend && !i.manifest.refiner_blend.weights.empty()) {
-      for (size_t q = 0; q < out.size(); ++q)
-        out[q] = BlendRefined(sequences[q], out[q], J, i.manifest.refiner_blend);
+        i.manifest, i.net, *i.norm, input, std::max(1, threads_), &windows, progress);
+    if (blended) {
+      for (size_t q = 0; q < out.size(); ++q) out[q] = BlendRefined(input[q], out[q], J, blend);
     }
     if (stats) {
       stats->windows = windows;

@@ -18,6 +18,8 @@ std::string FilterName(FilterKind kind) {
       return "savitzky-golay";
     case FilterKind::kOneEuro:
       return "one-euro";
+    case FilterKind::kHampel:
+      return "hampel";
   }
   return "?";
 }
@@ -30,6 +32,8 @@ std::string DescribeFilter(const FilterSetting& s) {
       return StringPrintf("savitzky-golay (half window %.0f, order %.0f)", s.a, s.b);
     case FilterKind::kOneEuro:
       return StringPrintf("one-euro (min cutoff %.3g Hz, beta %.3g)", s.a, s.b);
+    case FilterKind::kHampel:
+      return StringPrintf("hampel (half window %.0f, %.3g deviations)", s.a, s.b);
   }
   return "?";
 }
@@ -43,6 +47,8 @@ std::vector<float> ApplyFilter(const FilterSetting& s, const std::vector<float>&
       return SavitzkyGolay(p, joints, static_cast<int>(s.a), static_cast<int>(s.b));
     case FilterKind::kOneEuro:
       return OneEuroFilter(p, joints, fps, s.a, s.b);
+    case FilterKind::kHampel:
+      return HampelFilter(p, joints, static_cast<int>(s.a), s.b);
   }
   throw std::invalid_argument("ApplyFilter: unknown filter kind");
 }
@@ -65,6 +71,12 @@ std::vector<FilterSetting> FilterGrid(FilterKind kind) {
       for (double cutoff : {0.1, 0.2, 0.5, 1.0, 2.0, 4.0, 8.0}) {
         for (double beta : {0.0, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0})
           grid.push_back({kind, cutoff, beta});
+      }
+      break;
+    case FilterKind::kHampel:
+      for (int half : {1, 2, 3, 4, 5, 7}) {
+        for (double n_sigma : {0.0, 1.0, 2.0, 3.0, 4.0, 6.0})
+          grid.push_back({kind, double(half), n_sigma});
       }
       break;
   }

@@ -13,6 +13,7 @@ enum class FilterKind {
   kGaussian,       // GaussianSmooth (denoise_metrics.h): a = sigma, frames
   kSavitzkyGolay,  // SavitzkyGolay (motion_filters.h): a = half window, frames; b = order
   kOneEuro,        // OneEuroFilter (motion_filters.h): a = min cutoff, Hz; b = beta, 1/m
+  kHampel,         // HampelFilter (motion_filters.h): a = half window, frames; b = n_sigma
 };
 
 struct FilterSetting {
@@ -20,7 +21,7 @@ struct FilterSetting {
   double a = 0, b = 0;
 };
 
-// "gaussian", "savitzky-golay", "one-euro".
+// "gaussian", "savitzky-golay", "one-euro", "hampel".
 std::string FilterName(FilterKind kind);
 // The kind and its parameters, e.g. "savitzky-golay (half window 5, order 2)".
 std::string DescribeFilter(const FilterSetting& setting);
@@ -31,7 +32,7 @@ std::vector<float> ApplyFilter(const FilterSetting& setting, const std::vector<f
 
 // Candidate settings of a kind, from light to heavy smoothing: what a user tuning by hand would
 // try (Gaussian sigma 0.5-8 frames; Savitzky-Golay half windows 2-15 frames of order 1-4; one-euro
-// min cutoffs 0.1-8 Hz with beta 0-20).
+// min cutoffs 0.1-8 Hz with beta 0-20; Hampel half windows 1-7 frames at 0-6 deviations).
 std::vector<FilterSetting> FilterGrid(FilterKind kind);
 
 struct TunedFilter {

@@ -3,6 +3,7 @@
 // The Gaussian smoother is in denoise_metrics.h (GaussianSmooth).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 namespace motionfork {
@@ -20,5 +21,18 @@ std::vector<float> SavitzkyGolay(const std::vector<float>& p, int joints, int ha
 // std::invalid_argument for fps, min_cutoff or d_cutoff <= 0, beta < 0 or a bad size.
 std::vector<float> OneEuroFilter(const std::vector<float>& p, int joints, double fps,
                                  double min_cutoff, double beta, double d_cutoff = 1.0);
+
+// The Hampel test for outliers, per value: a value farther from the median of the 2 half_window +
+// 1 frames of its coordinate centred on it (cut at the ends) than n_sigma x their scale (1.4826 x
+// the median absolute deviation from that median, a Gaussian's sigma) is an outlier. Fills
+// *medians with the medians [T, J, 3] and returns the flags [T, J, 3] (1: outlier). Throws
+// std::invalid_argument for half_window < 1, n_sigma < 0 or a bad size.
+std::vector<uint8_t> HampelOutliers(const std::vector<float>& p, int joints, int half_window,
+                                    double n_sigma, std::vector<float>* medians);
+
+// The Hampel filter, the classical tool against outliers: each outlier of HampelOutliers replaced
+// by its median; n_sigma = 0 is the running median.
+std::vector<float> HampelFilter(const std::vector<float>& p, int joints, int half_window,
+                                double n_sigma);
 
 }  // namespace motionfork

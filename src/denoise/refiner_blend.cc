@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "denoise/denoise_metrics.h"
+#include "denoise/motion_filters.h"
 
 namespace motionfork {
 
@@ -52,8 +53,16 @@ std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
   return per_frame;
 }
 
-std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half) {
-  return LocalCorrectionCm(input, GaussianSmooth(input, joints, 1.0), joints, half);
+std::string RoughnessName(Roughness kind) {
+  return kind == Roughness::kGaussian ? "gaussian" : "savitzky-golay";
+}
+
+std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half,
+                                     Roughness kind) {
+  const std::vector<float> smooth = kind == Roughness::kGaussian
+                                        ? GaussianSmooth(input, joints, 1.0)
+                                        : SavitzkyGolay(input, joints, 3, 3);
+  return LocalCorrectionCm(input, smooth, joints, half);
 }
 
 std::vector<float> SmoothWhereNoisy(const std::vector<float>& motion,
@@ -82,7 +91,7 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
   if (refined.size() != input.size())
     throw std::invalid_argument(
         "refiner_blend: the refined motion's size differs from the input's");
-  const std::vector<double> size = InputRoughnessCm(input, joints);
+  const std::vector<double> size = InputRoughnessCm(input, joints, 15, blend.roughness);
   const std::vector<float> base = SmoothWhereNoisy(input, size, joints, blend.sigma);
   const size_t F = 3 * static_cast<size_t>(joints);
   std::vector<float> out(input.size());
@@ -94,8 +103,9 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
   return SmoothWhereNoisy(out, size, joints, blend.smooth);
 }
 
-RefinerBlendFit::RefinerBlendFit(double sigma)
+RefinerBlendFit::RefinerBlendFit(double sigma, Roughness roughness)
     : sigma_(sigma),
+      roughness_(roughness),
       ee_(kRefinerBlendBins, 0.0),
       ce_(kRefinerBlendBins, 0.0),
       cc_(kRefinerBlendBins, 0.0) {}
@@ -107,7 +117,7 @@ void RefinerBlendFit::AddSetting(const std::vector<std::vector<float>>& inputs,
   double values = 0;
   const size_t F = 3 * static_cast<size_t>(joints);
   for (size_t m = 0; m < inputs.size(); ++m) {
-    const std::vector<double> size = InputRoughnessCm(inputs[m], joints);
+    const std::vector<double> size = InputRoughnessCm(inputs[m], joints, 15, roughness_);
     const std::vector<float> base = SmoothWhereNoisy(inputs[m], size, joints, sigma_);
     for (size_t t = 0; t < size.size(); ++t) {
       const int bin = RefinerBlendBin(size[t]);
@@ -130,6 +140,7 @@ void RefinerBlendFit::AddSetting(const std::vector<std::vector<float>>& inputs,
 
 RefinerBlend RefinerBlendFit::Blend() const {
   RefinerBlend blend{sigma_, std::vector<double>(kRefinerBlendBins, 1.0)};
+  blend.roughness = roughness_;
   for (int b = 0; b < kRefinerBlendBins; ++b)
     if (cc_[b] > 0) blend.weights[b] = std::clamp(ce_[b] / cc_[b], 0.0, 1.0);
   return blend;

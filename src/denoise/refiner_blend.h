@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "denoise/outlier_repair.h"
+
 namespace motionfork {
 
 constexpr int kRefinerBlendBins = 10;
@@ -31,9 +33,17 @@ std::string RefinerBlendBinName(int bin);  // "0.75-1 cm"
 std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
                                       const std::vector<float>& refined, int joints, int half = 15);
 
-// Per frame of a motion [T, J, 3], LocalCorrectionCm between it and itself smoothed by a
-// Gaussian of 1 frame: how rough it is around that frame, cm.
-std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half = 15);
+// What the roughness of a motion is measured against: itself smoothed by a Gaussian of 1 frame
+// (the first bundles'), or by a Savitzky-Golay fit of order 3 over 7 frames, which follows fast
+// smooth motion (a turning hand) where the Gaussian cuts corners, so that fast clean motion does
+// not look rough; on white noise both leave about three quarters of it.
+enum class Roughness { kGaussian, kSavitzkyGolay };
+std::string RoughnessName(Roughness kind);  // "gaussian", "savitzky-golay"
+
+// Per frame of a motion [T, J, 3], LocalCorrectionCm between it and its smoothing of `kind`: how
+// rough it is around that frame, cm.
+std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half = 15,
+                                     Roughness kind = Roughness::kGaussian);
 
 // motion smoothed by a Gaussian of sigma frames where it looks noisy: fully from a roughness of
 // kSmoothFullCm, not at all below kSmoothFromCm, linearly between (roughness_cm per frame).
@@ -45,6 +55,8 @@ struct RefinerBlend {
   double sigma = 0;             // frames: the base's Gaussian smoothing of a noisy input
   std::vector<double> weights;  // [kRefinerBlendBins], each in [0, 1]; empty: no blend
   double smooth = 0;            // frames: the output's Gaussian smoothing where noisy
+  OutlierRepair outliers;       // of the input, before the refiner reads it (DvaeModel::Denoise)
+  Roughness roughness = Roughness::kGaussian;  // what the bins and the smoothing are keyed on
 };
 
 // base + weight(roughness bin of the frame) x (refined - base), smoothed where rough; no weights:
@@ -57,7 +69,7 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
 // motions, then Blend().
 class RefinerBlendFit {
  public:
-  explicit RefinerBlendFit(double sigma = 0);
+  explicit RefinerBlendFit(double sigma = 0, Roughness roughness = Roughness::kGaussian);
   // One setting's motions: inputs, the refiner's outputs and the clean motions, [T, J, 3] each.
   void AddSetting(const std::vector<std::vector<float>>& inputs,
                   const std::vector<std::vector<float>>& refined,
@@ -68,6 +80,7 @@ class RefinerBlendFit {
 
  private:
   double sigma_;
+  Roughness roughness_;
   std::vector<double> ee_, ce_, cc_;
 };
 

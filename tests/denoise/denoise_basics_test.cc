@@ -167,6 +167,27 @@ TEST_CASE("refiner blend: bins of the local correction size, the blend, least-sq
   CHECK(weights[1] == 1.0);                       // no data
 }
 
+TEST_CASE("roughness against a Savitzky-Golay fit: fast smooth motion is not rough, noise is") {
+  // One joint on a fast cubic path (metres a frame: 0.1 t - 0.004 t^2 + 0.0001 t^3), then the same
+  // with a zigzag of 1 cm.
+  const int J = 1, T = 60;
+  std::vector<float> path(T * 3), zigzag(T * 3);
+  for (int t = 0; t < T; ++t) {
+    for (int a = 0; a < 3; ++a) {
+      path[t * 3 + a] = static_cast<float>((a + 1) * (0.1 * t - 0.004 * t * t + 1e-4 * t * t * t));
+      zigzag[t * 3 + a] = path[t * 3 + a] + (t % 2 ? 0.01f : -0.01f);
+    }
+  }
+  const std::vector<double> gaussian = InputRoughnessCm(path, J, 15, Roughness::kGaussian),
+                            fitted = InputRoughnessCm(path, J, 15, Roughness::kSavitzkyGolay),
+                            noisy = InputRoughnessCm(zigzag, J, 15, Roughness::kSavitzkyGolay);
+  CHECK(gaussian[30] > 0.5);                    // the Gaussian cuts the path's corners
+  CHECK(fitted[30] == Approx(0).margin(1e-3));  // a cubic is its own fit
+  CHECK(noisy[30] > 1.0);                       // the zigzag is still rough
+  CHECK(RoughnessName(Roughness::kSavitzkyGolay) == "savitzky-golay");
+  CHECK(InputRoughnessCm(path, J) == gaussian);  // the default: the first bundles' measure
+}
+
 TEST_CASE("refiner blend: smoothing only where the correction says the input was noisy") {
   // One joint, 60 frames of frame-to-frame zigzag; roughness 0 cm in frames 0-19, ramping
   // 0.5 -> 1 cm over 20-39 (0.75 cm at 30) and 2 cm from 40 on.

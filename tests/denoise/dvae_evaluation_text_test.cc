@@ -12,7 +12,8 @@ TEST_CASE("evaluation text: a row shows '-' where optimisation or refiner mode d
   r.noisy_cm = 3.5;
   r.filters = {{"gaussian", "gaussian (sigma 2 frames)", 2.0, 2.25, 0.357, 2},
                {"savitzky-golay", "savitzky-golay (half window 5, order 2)", 2.1, 2.5, 0.28, 3},
-               {"one-euro", "one-euro (min cutoff 1 Hz, beta 0.5)", 2.6, 2.75, 0.2, 4}};
+               {"one-euro", "one-euro (min cutoff 1 Hz, beta 0.5)", 2.6, 2.75, 0.2, 4},
+               {"hampel", "hampel (half window 3, 3 deviations)", 2.8, 3.0, 0.14, 1.5}};
   r.denoised_cm = 1.5;
   r.removed = 0.5714;
   r.optimised_cm = std::nan("");
@@ -31,6 +32,7 @@ TEST_CASE("evaluation text: a row shows '-' where optimisation or refiner mode d
   CHECK(row.find(" 2.25 ") != std::string::npos);
   CHECK(row.find(" 2.50 ") != std::string::npos);
   CHECK(row.find(" 2.75 ") != std::string::npos);
+  CHECK(row.find(" 3.00 ") != std::string::npos);
   CHECK(row.find("savitzky-golay (half window 5, order 2), 2.10 cm on the tuning clips\n") !=
         std::string::npos);
   CHECK(r.best_filter() == &r.filters[0]);

@@ -236,11 +236,39 @@ TEST_CASE(
     m2.refiner_blend.smooth = 0;
     CHECK(FormatDvaeManifest(m2).find("smooth:") == std::string::npos);
   }
+  {  // the outlier repair round-trips; absent, there is none; a bad one is refused, named
+    DvaeManifest m2 = model.manifest();
+    m2.refiner_blend.outliers = {3, 4.5};
+    std::ofstream(tmp.file("outliers.yaml")) << FormatDvaeManifest(m2);
+    const OutlierRepair back = LoadDvaeManifest(tmp.file("outliers.yaml")).refiner_blend.outliers;
+    CHECK(back.half_window == 3);
+    CHECK(back.deviations == 4.5);
+    std::string text = FormatDvaeManifest(m2);
+    text.replace(text.find("half_window: 3"), 14, "half_window: 0");
+    std::ofstream(tmp.file("bad_outliers.yaml")) << text;
+    CHECK_THROWS_WITH(LoadDvaeManifest(tmp.file("bad_outliers.yaml")),
+                      Contains("refiner_blend.outliers: expected half_window in [1, 1000]"));
+    m2.refiner_blend.outliers = {};
+    CHECK(FormatDvaeManifest(m2).find("outliers:") == std::string::npos);
+  }
+  // Refiner mode repairs the outliers the blend names, refines the repaired motion and blends.
   DenoiseOptions raw = o;
   raw.refiner_blend = false;
-  const Motion r = DenoiseMotion(model, noisy, raw);
-  CHECK(a.positions() == BlendRefined(noisy.positions(), r.positions(), noisy.num_joints(),
-                                      model.manifest().refiner_blend));
+  const RefinerBlend& blend = model.manifest().refiner_blend;
+  const std::vector<float> in =
+      RepairOutliers(noisy.positions(), noisy.num_joints(), blend.outliers);
+  const Motion r = DenoiseMotion(model, Motion(noisy.skeleton_ptr(), noisy.fps(), in), raw);
+  CHECK(a.positions() == BlendRefined(in, r.positions(), noisy.num_joints(), blend));
+  {  // the blend fitted again alone: the same weights file, the same summary
+    const DvaeTrainSummary again = RefitRefinerBlend(cfg, tmp.file("r"), data, tmp.file("refit"));
+    CHECK(again.refiner_blend.weights == blend.weights);
+    CHECK(again.refiner_blend.outliers.half_window == blend.outliers.half_window);
+    CHECK(ReadFileBytes(tmp.file("refit") + "/dvae.pt") ==
+          ReadFileBytes(tmp.file("r") + "/dvae.pt"));
+    CHECK(LoadDvaeModel(tmp.file("refit")).manifest().refiner_blend.weights == blend.weights);
+    CHECK_THROWS_WITH(RefitRefinerBlend(cfg, TinyDir() + "/denoiser", data, tmp.file("no")),
+                      Contains("no refiner"));
+  }
   // With one, the loss adds the acceleration error (positive on noisy windows).
   cfg.refiner.accel_weight = 2;
   cfg.refiner.training.epochs = 1;

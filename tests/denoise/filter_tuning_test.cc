@@ -53,8 +53,8 @@ double Error(const FilterSetting& s, const Sequences& noisy, const Sequences& cl
 
 TEST_CASE("every filter's grid runs and names its parameters") {
   const Sequences clean = CleanMotions(1, 50);
-  for (FilterKind kind :
-       {FilterKind::kGaussian, FilterKind::kSavitzkyGolay, FilterKind::kOneEuro}) {
+  for (FilterKind kind : {FilterKind::kGaussian, FilterKind::kSavitzkyGolay, FilterKind::kOneEuro,
+                          FilterKind::kHampel}) {
     const std::vector<FilterSetting> grid = FilterGrid(kind);
     REQUIRE(grid.size() >= 10);
     for (const FilterSetting& s : grid) {
@@ -66,6 +66,24 @@ TEST_CASE("every filter's grid runs and names its parameters") {
   }
   CHECK(DescribeFilter({FilterKind::kSavitzkyGolay, 5, 2}) ==
         "savitzky-golay (half window 5, order 2)");
+  CHECK(DescribeFilter({FilterKind::kHampel, 3, 4}) == "hampel (half window 3, 4 deviations)");
+}
+
+TEST_CASE("against outliers the tuned Hampel filter beats the smoothers") {
+  const Sequences clean = CleanMotions(4, 120);
+  Sequences noisy = clean;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (auto& q : noisy)
+    for (float& v : q)
+      if (unit(rng) < 0.05) v += unit(rng) < 0.5 ? 0.3f : -0.3f;
+  const TunedFilter hampel = TuneFilter(FilterKind::kHampel, noisy, clean, 2, 30);
+  for (FilterKind kind :
+       {FilterKind::kGaussian, FilterKind::kSavitzkyGolay, FilterKind::kOneEuro}) {
+    INFO(FilterName(kind) << " against " << DescribeFilter(hampel.setting));
+    CHECK(hampel.error_m < 0.5 * TuneFilter(kind, noisy, clean, 2, 30).error_m);
+  }
+  CHECK(hampel.setting.b > 0);  // a test, not the running median
 }
 
 TEST_CASE("tuning picks the grid's least error, heavier smoothing for heavier noise") {

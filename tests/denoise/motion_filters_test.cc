@@ -25,6 +25,7 @@ std::vector<float> Track(int frames, double (*f)(double)) {
 }
 
 double Quadratic(double t) { return 0.01 * t * t - 0.3 * t + 1.0; }
+double SlowQuadratic(double t) { return 0.001 * t * t - 0.03 * t + 1.0; }  // turns at frame 15
 
 }  // namespace
 
@@ -82,4 +83,30 @@ TEST_CASE("the filters refuse bad parameters and sizes, naming them") {
   CHECK_THROWS_WITH(SavitzkyGolay(std::vector<float>(7), 1, 2, 2), Contains("joints x 3"));
   CHECK_THROWS_WITH(OneEuroFilter(q, 1, 0.0, 1.0, 0.0), Contains("fps"));
   CHECK_THROWS_WITH(OneEuroFilter(q, 1, 30.0, 1.0, -1.0), Contains("beta"));
+  CHECK_THROWS_WITH(HampelFilter(q, 1, 0, 3.0), Contains("half_window"));
+  CHECK_THROWS_WITH(HampelFilter(q, 1, 2, -1.0), Contains("n_sigma"));
+  CHECK_THROWS_WITH(HampelFilter(std::vector<float>(7), 1, 2, 3.0), Contains("joints x 3"));
+}
+
+TEST_CASE("the Hampel filter replaces spikes by their window's median and keeps the rest") {
+  // A slow quadratic (falling, turning at frame 15) with spikes of 30 cm on x at frames 7 and 15.
+  const std::vector<float> q = Track(60, SlowQuadratic);
+  std::vector<float> spiked = q;
+  spiked[3 * 7] += 0.3f;
+  spiked[3 * 15] -= 0.3f;
+  const std::vector<float> out = HampelFilter(spiked, 1, 3, 3.0);
+  std::vector<float> medians;
+  const std::vector<uint8_t> flags = HampelOutliers(spiked, 1, 3, 3.0, &medians);
+  for (size_t i = 0; i < q.size(); ++i) {
+    INFO("value " << i);
+    const bool spike = i == 3 * 7 || i == 3 * 15;
+    CHECK(flags[i] == (spike ? 1 : 0));
+    // A spike becomes its median: one of its neighbours' values, within a frame's motion of it.
+    CHECK(out[i] == (spike ? medians[i] : spiked[i]));
+  }
+  CHECK(std::abs(out[3 * 7] - q[3 * 7]) < 0.04);
+  CHECK(std::abs(out[3 * 15] - q[3 * 15]) < 0.01);
+  // The running median (0 deviations) of a monotone stretch is the stretch itself.
+  const std::vector<float> median = HampelFilter(q, 1, 2, 0.0);
+  for (int t = 2; t < 12; ++t) CHECK(median[3 * t] == q[3 * t]);
 }

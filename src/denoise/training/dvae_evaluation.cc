@@ -179,8 +179,8 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
     // Each filter tuned on the training clips under this noise kind (other draws), then applied
     // to the test clips' noisy motion.
     const Sequences tuning_noisy = Noisy(tuning, o.noises[n], o.seed + 500000 + 1000 * n, J);
-    for (FilterKind kind :
-         {FilterKind::kGaussian, FilterKind::kSavitzkyGolay, FilterKind::kOneEuro}) {
+    for (FilterKind kind : {FilterKind::kGaussian, FilterKind::kSavitzkyGolay, FilterKind::kOneEuro,
+                            FilterKind::kHampel}) {
       const TunedFilter tuned = TuneFilter(kind, tuning_noisy, tuning, J, fps, o.threads);
       Sequences filtered;
       for (const auto& q : noisy) filtered.push_back(ApplyFilter(tuned.setting, q, J, fps));

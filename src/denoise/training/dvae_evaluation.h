@@ -55,7 +55,7 @@ struct DenoisingRow {
   double accel_ratio_noisy = 0, accel_ratio_denoised = 0, accel_ratio_optimised = 0;
   // Refiner mode (NaN when the bundle has no refiner).
   double refined_cm = NAN, removed_refined = NAN, accel_ratio_refined = NAN;
-  std::vector<FilterFigure> filters;  // Gaussian, Savitzky-Golay, one-euro
+  std::vector<FilterFigure> filters;  // Gaussian, Savitzky-Golay, one-euro, Hampel
   // The filter of lowest test error (null when there is none).
   const FilterFigure* best_filter() const;
 };

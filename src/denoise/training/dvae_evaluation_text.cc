@@ -29,10 +29,10 @@ std::string DvaeEvaluationHeaderText(const DvaeEvaluation& e, const DvaeModel& m
       e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations,
       e.tuning_clips, WithThousands(e.tuning_frames).c_str());
   StringAppendf(&s,
-                "\n%-18s %7s %8s %8s %8s %8s %8s %8s %8s %9s %8s   accel / clean: noisy  best "
-                "filter  denoised  refined  optimised\n",
-                "noise (cm error)", "noisy", "gaussian", "sav-gol", "one-euro", "denoised",
-                "removed", "refined", "removed", "optimised", "removed");
+                "\n%-18s %7s %8s %8s %8s %8s %8s %8s %8s %8s %9s %8s   accel / clean: noisy  "
+                "best filter  denoised  refined  optimised\n",
+                "noise (cm error)", "noisy", "gaussian", "sav-gol", "one-euro", "hampel",
+                "denoised", "removed", "refined", "removed", "optimised", "removed");
   return s;
 }
 
@@ -42,9 +42,9 @@ std::string DenoisingRowText(const DenoisingRow& r) {
   };
   const FilterFigure* best = r.best_filter();
   std::string s = StringPrintf(
-      "%-18s %7.2f %8s %8s %8s %8.2f %8s %8s %8s %9s %8s   %19.2f %12s %9.2f %8s %10s\n",
+      "%-18s %7.2f %8s %8s %8s %8s %8.2f %8s %8s %8s %9s %8s   %19.2f %12s %9.2f %8s %10s\n",
       r.noise.c_str(), r.noisy_cm, filter(0).c_str(), filter(1).c_str(), filter(2).c_str(),
-      r.denoised_cm, Number(100 * r.removed, "%.1f%%").c_str(),
+      filter(3).c_str(), r.denoised_cm, Number(100 * r.removed, "%.1f%%").c_str(),
       Number(r.refined_cm, "%.2f").c_str(), Number(100 * r.removed_refined, "%.1f%%").c_str(),
       Number(r.optimised_cm, "%.2f").c_str(), Number(100 * r.removed_optimised, "%.1f%%").c_str(),
       r.accel_ratio_noisy, best ? StringPrintf("%.2f", best->accel_ratio).c_str() : "-",

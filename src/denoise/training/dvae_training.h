@@ -47,6 +47,7 @@ struct DvaeTrainSummary {
   double seconds = 0;
   bool stopped_early = false;
   RefinerBlend refiner_blend;  // RefineDvae: the kept refiner's blend
+  bool blend_only = false;     // RefitRefinerBlend: no epoch trained, the blend fitted again
 };
 
 // base: protocol, fps, skeleton, noise prior, denoise defaults, info. Writes OUT/dvae.yaml +
@@ -68,5 +69,11 @@ DvaeTrainSummary FinetuneDvae(const DvaeTrainConfig& config, const std::string& 
 DvaeTrainSummary RefineDvae(const DvaeTrainConfig& config, const std::string& dvae_dir,
                             const DvaeData& data, const std::string& out_dir,
                             const DvaeTrainCallbacks& callbacks, int stop_after_epochs = 0);
+
+// dvae_dir: a bundle with a refiner, kept as it is: its blend and outlier repair fitted again on
+// the data's held-out clips (as at the end of RefineDvae; the config's refiner seed draws the
+// noise), the bundle written to OUT (the same weights; OUT may be dvae_dir).
+DvaeTrainSummary RefitRefinerBlend(const DvaeTrainConfig& config, const std::string& dvae_dir,
+                                   const DvaeData& data, const std::string& out_dir);
 
 }  // namespace motionfork

@@ -33,8 +33,9 @@ std::string RefinerBlendText(const RefinerBlend& blend) {
   if (weights.empty()) return "";
   std::string s = StringPrintf(
       "refiner blend (held-out clips): where the input is rough, the base is the input smoothed "
-      "by sigma %.3g frames; weight of the correction by the input's roughness:",
-      blend.sigma);
+      "by sigma %.3g frames; weight of the correction by the input's roughness (against its %s "
+      "smoothing):",
+      blend.sigma, RoughnessName(blend.roughness).c_str());
   const std::string smooth = StringPrintf(
       "; where the roughness exceeds %g cm, the output smoothed by sigma %.3g frames (the noisy "
       "outputs' acceleration closest to the clean clips')",
@@ -43,7 +44,8 @@ std::string RefinerBlendText(const RefinerBlend& blend) {
     StringAppendf(&s, "%s %s %.2f", b ? "," : "", RefinerBlendBinName(static_cast<int>(b)).c_str(),
                   weights[b]);
   }
-  return s + (blend.smooth > 0 ? smooth : "") + "\n";
+  return s + (blend.smooth > 0 ? smooth : "") +
+         "; outliers repaired first: " + DescribeOutlierRepair(blend.outliers) + "\n";
 }
 
 }  // namespace
@@ -58,6 +60,13 @@ std::string DvaeTrainingDoneText(DvaeStage stage, const DvaeTrainSummary& s,
   static const char* const kNext[] = {
       "next: motionfork dvae finetune --prior %s --data DIR --out DIR\n",
       "next: motionfork dvae refine --prior %s --data DIR --out DIR\n", ""};
+  if (s.blend_only) {
+    return StringPrintf(
+               "refiner kept as it was, its blend fitted again in %s; bundle: %s "
+               "(dvae.yaml; dvae.pt holds the same weights)\n",
+               Duration(s.seconds).c_str(), out.c_str()) +
+           RefinerBlendText(s.refiner_blend);
+  }
   const int k = static_cast<int>(stage);
   const std::string trained =
       s.epochs_done <= s.first_epoch
