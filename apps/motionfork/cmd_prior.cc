@@ -1,8 +1,6 @@
 // motionfork prior train|score|sample: the pose prior (GSPS normalizing flow on limb directions).
 #include <unistd.h>
 
-#include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,6 +9,7 @@
 #include "app_common.h"
 #include "bundle/prior_bundle.h"
 #include "commands.h"
+#include "core/interrupt.h"
 #include "flags.h"
 #include "io/motion_file.h"
 #include "motion_options.h"
@@ -25,9 +24,6 @@ namespace motionfork::app {
 namespace {
 
 constexpr int kExitInterrupted = 130;  // 128 + SIGINT, as shells report it
-
-std::atomic<bool> g_stop{false};
-extern "C" void OnSigint(int) { g_stop = true; }
 
 struct ScoreOptions {
   std::string file;
@@ -55,7 +51,7 @@ PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& chec
   const bool bars = !g.quiet && isatty(fileno(stderr));
   auto announced = std::make_shared<bool>(false);
   PriorTrainCallbacks callbacks;
-  callbacks.stop_requested = [] { return g_stop.load(); };
+  callbacks.stop_requested = InterruptRequest::requested;
   callbacks.progress = [=](const PriorTrainProgress& p) {
     if (!*announced && p.epoch > 0) {
       std::printf("resuming:  %s holds %d of %d epochs\n", checkpoint.c_str(), p.epoch, p.epochs);
@@ -108,16 +104,10 @@ bool TrainPriorOrStop(const pipeline::PriorTrainingRequest& request, GlobalOptio
   };
   callbacks.training =
       EpochReports(g, (std::filesystem::path(o.out) / "checkpoint.pt").string(), bar);
-  g_stop = false;
-  auto previous = std::signal(SIGINT, OnSigint);
-  pipeline::PriorTrainingRun run;
-  try {
-    run = pipeline::TrainPriorBundle(o, callbacks);
-  } catch (...) {
-    std::signal(SIGINT, previous);
-    throw;
-  }
-  std::signal(SIGINT, previous);
+  const pipeline::PriorTrainingRun run = [&] {
+    const InterruptRequest ctrl_c;
+    return pipeline::TrainPriorBundle(o, callbacks);
+  }();
   bar->reset();
   if (!run.completed) {
     PrintText(pipeline::PriorTrainingInterruptedText(o.out));

@@ -99,6 +99,15 @@ std::vector<float> OneEuroFilter(const std::vector<float>& p, int joints, double
   return out;
 }
 
+double MedianInPlace(std::vector<double>* v) {
+  if (v->empty()) throw std::invalid_argument("MedianInPlace: no values");
+  const size_t n = v->size(), mid = n / 2;
+  std::nth_element(v->begin(), v->begin() + mid, v->end());
+  const double upper = (*v)[mid];
+  if (n % 2 == 1) return upper;
+  return 0.5 * (upper + *std::max_element(v->begin(), v->begin() + mid));
+}
+
 std::vector<uint8_t> HampelOutliers(const std::vector<float>& p, int joints, int half_window,
                                     double n_sigma, std::vector<float>* medians) {
   const int T = CheckedFrames(p, joints, "HampelOutliers");
@@ -110,22 +119,15 @@ std::vector<uint8_t> HampelOutliers(const std::vector<float>& p, int joints, int
   std::vector<uint8_t> flags(p.size(), 0);
   medians->assign(p.size(), 0.0f);
   std::vector<double> window, deviation;
-  auto median = [](std::vector<double>* v) {
-    const size_t n = v->size(), mid = n / 2;
-    std::nth_element(v->begin(), v->begin() + mid, v->end());
-    const double upper = (*v)[mid];
-    if (n % 2 == 1) return upper;
-    return 0.5 * (upper + *std::max_element(v->begin(), v->begin() + mid));
-  };
   for (int v = 0; v < F; ++v) {
     for (int t = 0; t < T; ++t) {
       const int a = std::max(0, t - half_window), b = std::min(T - 1, t + half_window);
       window.clear();
       for (int k = a; k <= b; ++k) window.push_back(p[static_cast<size_t>(k) * F + v]);
       deviation = window;
-      const double m = median(&window);
+      const double m = MedianInPlace(&window);
       for (double& d : deviation) d = std::abs(d - m);
-      const double scale = 1.4826 * median(&deviation);
+      const double scale = 1.4826 * MedianInPlace(&deviation);
       const size_t i = static_cast<size_t>(t) * F + v;
       (*medians)[i] = static_cast<float>(m);
       flags[i] = std::abs(p[i] - m) > n_sigma * scale ? 1 : 0;

@@ -22,6 +22,10 @@ std::vector<float> SavitzkyGolay(const std::vector<float>& p, int joints, int ha
 std::vector<float> OneEuroFilter(const std::vector<float>& p, int joints, double fps,
                                  double min_cutoff, double beta, double d_cutoff = 1.0);
 
+// The median of `values` (the mean of the middle two for an even count), which it reorders.
+// Throws std::invalid_argument for no values.
+double MedianInPlace(std::vector<double>* values);
+
 // The Hampel test for outliers, per value: a value farther from the median of the 2 half_window +
 // 1 frames of its coordinate centred on it (cut at the ends) than n_sigma x their scale (1.4826 x
 // the median absolute deviation from that median, a Gaussian's sigma) is an outlier. Fills

@@ -18,14 +18,6 @@ std::string DescribeOutlierRepair(const OutlierRepair& r) {
 
 namespace {
 
-double Median(std::vector<double>* v) {
-  const size_t n = v->size(), mid = n / 2;
-  std::nth_element(v->begin(), v->begin() + mid, v->end());
-  const double upper = (*v)[mid];
-  if (n % 2 == 1) return upper;
-  return 0.5 * (upper + *std::max_element(v->begin(), v->begin() + mid));
-}
-
 // Per value [T, J, 3]: 1 where the value is farther from the Theil-Sen line through the window of
 // its coordinate centred on it (the median of the pairwise slopes; the median offset) than
 // `deviations` x 1.4826 x the median absolute distance of the window's values from that line.
@@ -47,12 +39,12 @@ std::vector<uint8_t> TrendOutliers(const std::vector<float>& p, int joints, int 
       slopes.clear();
       for (int i = a; i <= b; ++i)
         for (int k = i + 1; k <= b; ++k) slopes.push_back((x(k) - x(i)) / (k - i));
-      const double slope = Median(&slopes);
+      const double slope = MedianInPlace(&slopes);
       offsets.clear();
       for (int i = a; i <= b; ++i) offsets.push_back(x(i) - slope * (i - t));
-      const double offset = Median(&offsets);
+      const double offset = MedianInPlace(&offsets);
       for (double& o : offsets) o = std::abs(o - offset);
-      const double scale = 1.4826 * Median(&offsets);
+      const double scale = 1.4826 * MedianInPlace(&offsets);
       if (std::abs(x(t) - offset) > deviations * scale) flags[static_cast<size_t>(t) * F + v] = 1;
     }
   }

@@ -139,7 +139,9 @@ void RefinerBlendFit::AddSetting(const std::vector<std::vector<float>>& inputs,
 }
 
 RefinerBlend RefinerBlendFit::Blend() const {
-  RefinerBlend blend{sigma_, std::vector<double>(kRefinerBlendBins, 1.0)};
+  RefinerBlend blend;
+  blend.sigma = sigma_;
+  blend.weights.assign(kRefinerBlendBins, 1.0);
   blend.roughness = roughness_;
   for (int b = 0; b < kRefinerBlendBins; ++b)
     if (cc_[b] > 0) blend.weights[b] = std::clamp(ce_[b] / cc_[b], 0.0, 1.0);

@@ -693,12 +693,9 @@ DvaeTrainSummary RefitRefinerBlend(const DvaeTrainConfig& config, const std::str
   }
   if (DvaeValues(m) != 3 * data.joints)
     throw std::invalid_argument(dvae_dir + ": the bundle's skeleton does not match the data's");
+  // The fit runs the refiner without its blend: the bundle's own blend does not matter.
+  m.refiner_blend = FitRefinerBlend(LoadDvaeModel(dvae_dir), data, config.refiner.training.seed);
   fs::create_directories(out_dir);
-  if (!fs::exists(fs::path(out_dir) / "dvae.pt") ||
-      !fs::equivalent(fs::path(out_dir), fs::path(dvae_dir))) {
-    SaveDvaeBundle(out_dir, m, net);
-  }
-  m.refiner_blend = FitRefinerBlend(LoadDvaeModel(out_dir), data, config.refiner.training.seed);
   SaveDvaeBundle(out_dir, m, net);
   DvaeTrainSummary summary;
   summary.refiner_blend = m.refiner_blend;
