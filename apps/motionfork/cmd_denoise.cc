@@ -142,6 +142,9 @@ and with --forecaster the forecasting ADE/FDE from noisy and denoised histories.
   cmd->add_option("--tuning-clips", e->eval.tuning_clips,
                   "Training clips on which the baseline filters are tuned (default 50)")
       ->check(PositiveNumber);
+  cmd->add_option("--slow", e->eval.slow,
+                  "Play the test and tuning clips this many times slower first (default 1)")
+      ->check(PositiveNumber);
   AddForecasterOptions(cmd, &e->forecaster, &e->eval.forecast_windows, &e->eval.k,
                        "Protocol test windows forecast (default 300)");
   AddThreadsOption(cmd, &e->threads);

@@ -196,6 +196,8 @@ ADE/FDE from clean, mean-imputed and imputed histories.)");
       ->check(NonNegativeNumber);
   AddForecasterOptions(cmd, &o->forecaster, &o->eval.forecast_windows, &o->eval.k,
                        "Protocol test windows for them (default 500)");
+  cmd->add_option("--forecast-occlusion", o->eval.forecast_occlusions,
+                  "Only this forecasting row, repeatable (e.g. 'random 50%'; default: all)");
   cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)")->check(Seed);
   cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
   AddThreadsOption(cmd, &o->threads);

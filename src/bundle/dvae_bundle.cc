@@ -198,11 +198,13 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
       Fail(path, root, "denoise.mode is refiner, but the bundle has no refiner");
     if (const YAML::Node b = root["refiner_blend"]) {
       if (!b.IsMap()) Fail(path, b, "refiner_blend: expected a mapping {sigma, weights, smooth}");
-      CheckKeys(path, b, "refiner_blend", {"sigma", "weights", "smooth", "outliers", "roughness"});
+      CheckKeys(path, b, "refiner_blend",
+                {"sigma", "weights", "smooth", "accel_bound", "outliers", "roughness"});
       RefinerBlend& blend = m.refiner_blend;
       blend.sigma = Get<double>(path, b, "sigma");
       blend.weights = Get<std::vector<double>>(path, b, "weights");
       blend.smooth = GetOr<double>(path, b, "smooth", 0.0);
+      blend.accel_bound = GetOr<double>(path, b, "accel_bound", 0.0);
       if (b["roughness"]) {
         const std::string kind = Get<std::string>(path, b, "roughness");
         if (kind != "gaussian" && kind != "savitzky-golay") {
@@ -231,11 +233,14 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
       }
       bool valid = m.refiner.enabled() && blend.weights.size() == size_t{kRefinerBlendBins} &&
                    std::isfinite(blend.sigma) && blend.sigma >= 0 && blend.sigma <= 100 &&
-                   std::isfinite(blend.smooth) && blend.smooth >= 0 && blend.smooth <= 100;
+                   std::isfinite(blend.smooth) && blend.smooth >= 0 && blend.smooth <= 100 &&
+                   std::isfinite(blend.accel_bound) && blend.accel_bound >= 0 &&
+                   blend.accel_bound <= 100;
       for (double w : blend.weights) valid = valid && std::isfinite(w) && w >= 0 && w <= 1;
       if (!valid) {
         Fail(path, b,
-             "refiner_blend: expected sigma and smooth in [0, 100] frames, " +
+             "refiner_blend: expected sigma and smooth in [0, 100] frames, accel_bound in [0, "
+             "100], " +
                  std::to_string(kRefinerBlendBins) + " weights in [0, 1] and a refiner, found " +
                  std::to_string(blend.weights.size()) + " weights" +
                  (m.refiner.enabled() ? "" : " and no refiner"));
@@ -263,6 +268,8 @@ std::string FormatDvaeManifest(const DvaeManifest& m, const BundleChecksums& che
           // Only when set: bundles from before it re-emit as written.
           if (m.refiner_blend.smooth > 0)
             out << YAML::Key << "smooth" << YAML::Value << m.refiner_blend.smooth;
+          if (m.refiner_blend.accel_bound > 0)
+            out << YAML::Key << "accel_bound" << YAML::Value << m.refiner_blend.accel_bound;
           if (m.refiner_blend.roughness != Roughness::kGaussian) {
             out << YAML::Key << "roughness" << YAML::Value
                 << RoughnessName(m.refiner_blend.roughness);

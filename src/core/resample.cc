@@ -32,4 +32,29 @@ Motion Resample(const Motion& motion, double target_fps) {
   return Motion(motion.skeleton_ptr(), target_fps, std::move(out));
 }
 
+std::vector<float> SlowDown(const std::vector<float>& positions, int joints, double factor) {
+  if (!(factor > 0) || !std::isfinite(factor))
+    throw std::invalid_argument("SlowDown: expected a factor > 0, got " + std::to_string(factor));
+  const size_t F = 3 * static_cast<size_t>(std::max(joints, 0));
+  if (F == 0 || positions.size() % F != 0) {
+    throw std::invalid_argument("SlowDown: expected positions [T, " + std::to_string(joints) +
+                                ", 3], got " + std::to_string(positions.size()) + " values");
+  }
+  const int T = static_cast<int>(positions.size() / F);
+  if (T == 0) return {};
+  const int out_frames = static_cast<int>(std::floor((T - 1) * factor + 1e-9)) + 1;
+  std::vector<float> out(static_cast<size_t>(out_frames) * F);
+  for (int i = 0; i < out_frames; ++i) {
+    const double s = i / factor;
+    const int s0 = std::min(T - 1, static_cast<int>(std::floor(s + 1e-9)));
+    const int s1 = std::min(T - 1, s0 + 1);
+    const double w = s1 == s0 ? 0.0 : std::max(0.0, s - s0);
+    for (size_t k = 0; k < F; ++k) {
+      const float a = positions[s0 * F + k], b = positions[s1 * F + k];
+      out[i * F + k] = static_cast<float>(a + w * (b - a));
+    }
+  }
+  return out;
+}
+
 }  // namespace motionfork

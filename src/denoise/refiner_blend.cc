@@ -100,7 +100,24 @@ std::vector<float> BlendRefined(const std::vector<float>& input, const std::vect
     for (size_t k = t * F; k < (t + 1) * F; ++k)
       out[k] = static_cast<float>(base[k] + w * (refined[k] - base[k]));
   }
-  return SmoothWhereNoisy(out, size, joints, blend.smooth);
+  return blend.accel_bound > 0 ? SmoothToAcceleration(out, size, joints, blend.accel_bound)
+                               : SmoothWhereNoisy(out, size, joints, blend.smooth);
+}
+
+std::vector<float> SmoothToAcceleration(const std::vector<float>& motion,
+                                        const std::vector<double>& roughness_cm, int joints,
+                                        double bound) {
+  if (std::none_of(roughness_cm.begin(), roughness_cm.end(),
+                   [](double r) { return r > kSmoothFromCm; }))
+    return motion;  // nowhere smoothed
+  const double limit =
+      bound * MeanAcceleration(GaussianSmooth(motion, joints, kAccelReferenceSigma), joints, 1.0);
+  std::vector<float> out;
+  for (double sigma : kOutputSmoothings) {
+    out = SmoothWhereNoisy(motion, roughness_cm, joints, sigma);
+    if (MeanAcceleration(out, joints, 1.0) <= limit) break;
+  }
+  return out;
 }
 
 RefinerBlendFit::RefinerBlendFit(double sigma, Roughness roughness)

@@ -51,13 +51,29 @@ std::vector<float> SmoothWhereNoisy(const std::vector<float>& motion,
                                     const std::vector<double>& roughness_cm, int joints,
                                     double sigma);
 
+// The output smoothings (Gaussian sigmas, frames) an adaptive blend chooses from, and the
+// smoothing of the reference it compares with.
+inline constexpr double kOutputSmoothings[] = {0.0, 0.5, 0.75, 1.0, 1.5, 2.0};
+constexpr double kAccelReferenceSigma = 2.0;
+
 struct RefinerBlend {
   double sigma = 0;             // frames: the base's Gaussian smoothing of a noisy input
   std::vector<double> weights;  // [kRefinerBlendBins], each in [0, 1]; empty: no blend
   double smooth = 0;            // frames: the output's Gaussian smoothing where noisy
-  OutlierRepair outliers;       // of the input, before the refiner reads it (DvaeModel::Denoise)
+  // > 0: the output's smoothing where noisy chosen for each motion instead of `smooth`
+  // (SmoothToAcceleration), so that slow motion, whose clean accelerations are small beside what
+  // is left of the noise, is smoothed more than fast motion
+  double accel_bound = 0;
+  OutlierRepair outliers;  // of the input, before the refiner reads it (DvaeModel::Denoise)
   Roughness roughness = Roughness::kGaussian;  // what the bins and the smoothing are keyed on
 };
+
+// SmoothWhereNoisy with the least of kOutputSmoothings whose result's mean acceleration is at most
+// `bound` times that of the motion smoothed everywhere by kAccelReferenceSigma frames (an estimate
+// of the clean motion's, low for fast motion); the largest where none is.
+std::vector<float> SmoothToAcceleration(const std::vector<float>& motion,
+                                        const std::vector<double>& roughness_cm, int joints,
+                                        double bound);
 
 // base + weight(roughness bin of the frame) x (refined - base), smoothed where rough; no weights:
 // refined unchanged.

@@ -27,6 +27,15 @@ nlohmann::json Figures(const std::string& path) {
   return j;
 }
 
+// The figures `command --json DIR/NAME` writes (it must succeed).
+nlohmann::json FiguresOf(const std::string& command, const motionfork::testing::TempDir& dir,
+                         const std::string& name) {
+  const Run r = Motionfork(command + " --json " + dir.file(name));
+  INFO(r.output);
+  REQUIRE(r.status == 0);
+  return Figures(dir.file(name));
+}
+
 // Every training clip (the protocol reads the split) and every twelfth test clip of the Bandai
 // split, as DIR/split.tsv.
 std::string SmallSplit(const std::string& data, const motionfork::testing::TempDir& dir) {
@@ -102,6 +111,23 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
     const nlohmann::json row = Figures(dir.file("1.json"))["forecasting"]["settings"][0];
     for (const char* key : {"ade_linear", "ade_spline", "fde_rigid_limb", "ade_refiner"})
       CHECK(row.contains(key));
+    // One forecasting row alone: the same figures as in the run of all (the same masks).
+    const nlohmann::json all = Figures(dir.file("1.json"))["forecasting"]["settings"];
+    const nlohmann::json only =
+        FiguresOf("-q hgvae eval --model " + models +
+                      "/hgvae --windows 10 --gap-clips 0 --threads 2 --forecast-occlusion "
+                      "'random 50%'" +
+                      common,
+                  dir, "one.json")["forecasting"]["settings"];
+    REQUIRE(only.size() == 1);
+    for (const auto& r : all)
+      if (r["occlusion"] == "random 50%") CHECK(r.dump() == only[0].dump());
+    const Run bad =
+        Motionfork("-q hgvae eval --model " + models +
+                   "/hgvae --windows 10 --gap-clips 0 --forecast-occlusion 'left ear'" + common);
+    CHECK(bad.status == 2);
+    CHECK_THAT(bad.output, Catch::Contains("no forecasting occlusion 'left ear'") &&
+                               Catch::Contains("'random 50%'"));
   }
   SECTION("dvae eval: regression and optimisation modes, forecasting") {
     CheckSameFigures(
@@ -110,7 +136,18 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
             "--noise outliers:0.1,0.3" +
             common,
         dir);
-    CHECK(Figures(dir.file("1.json"))["optimisation_clips"].get<int>() == 2);
+    const nlohmann::json as_recorded = Figures(dir.file("1.json"));
+    CHECK(as_recorded["optimisation_clips"].get<int>() == 2);
+    // The test clips played twice as slow: about twice the frames, a quarter of the acceleration.
+    const nlohmann::json j = FiguresOf("-q dvae eval --model " + models +
+                                           "/dvae --test-clips 4 --optimisation-clips 0 "
+                                           "--tuning-clips 5 --noise gaussian:0.05 --slow 2" +
+                                           common,
+                                       dir, "slow.json");
+    CHECK(j["slow"].get<double>() == 2);
+    CHECK(j["frames"].get<int>() == 2 * as_recorded["frames"].get<int>() - 4);
+    CHECK(j["clean_accel"].get<double>() ==
+          Approx(as_recorded["clean_accel"].get<double>() / 4).epsilon(0.1));
   }
 }
 
@@ -122,10 +159,7 @@ TEST_CASE("eval --turn turns the test clips: a baseline blind to heading keeps i
     return;
   }
   auto figures = [&](const std::string& args, const std::string& name) {
-    const Run r = Motionfork(common + args + " --json " + dir.file(name));
-    INFO(r.output);
-    REQUIRE(r.status == 0);
-    return Figures(dir.file(name));
+    return FiguresOf(common + args, dir, name);
   };
   // Zero velocity repeats the last pose: turned clips give the same distances, so the same
   // figures. Nearest neighbours match turned histories against the training clips as recorded,

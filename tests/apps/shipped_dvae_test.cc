@@ -19,7 +19,8 @@ const std::string kModel = std::string(MOTIONFORK_SOURCE_DIR) + "/models/bandai/
 
 TEST_CASE(
     "shipped dvae: at 5 cm noise half the error is removed with a plausible acceleration, the "
-    "refiner beats every tuned filter, the Hampel filter against outliers too") {
+    "refiner beats every tuned filter, the Hampel filter against outliers too, and moves like the "
+    "clean motion") {
   const std::string data = testing::SharedDataDir("data/bandai");
   if (data.empty()) {
     WARN("SKIPPED: ../shared/data/bandai not found");
@@ -51,8 +52,11 @@ TEST_CASE(
     double best = s["noisy_cm"].get<double>();
     for (const auto& f : s["filters"]) best = std::min(best, f["cm"].get<double>());
     CHECK(best < s["noisy_cm"].get<double>());
-    // The bundle's refiner (its default mode): below the best-tuned filter.
+    // The bundle's refiner (its default mode): below the best-tuned filter, moving within 1/2x-2x
+    // the clean motion's acceleration.
     CHECK(s["refined_cm"].get<double>() < best);
+    CHECK(s["accel_ratio_refined"].get<double>() >= 0.5);
+    CHECK(s["accel_ratio_refined"].get<double>() <= 2.0);
     if (noise == "gaussian:0.05") {
       CHECK(s["removed"].get<double>() >= 0.5);
       CHECK(s["accel_ratio_denoised"].get<double>() >= 0.5);

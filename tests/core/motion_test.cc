@@ -87,3 +87,20 @@ TEST_CASE("resampling to a non-integer ratio interpolates linearly") {
   }
   CHECK_THROWS(Resample(m, 0));
 }
+
+TEST_CASE("slowing a motion down stretches it in time: speeds / factor, accelerations / factor^2") {
+  // One joint on a parabola x = t^2 (frames): slowed 2x, x(i) = (i / 2)^2 at whole source frames,
+  // and the second difference falls from 2 to 2 / 4 between them.
+  std::vector<float> p;
+  for (int t = 0; t < 11; ++t) p.insert(p.end(), {static_cast<float>(t * t), 1.0f, -2.0f});
+  const std::vector<float> slow = SlowDown(p, 1, 2.0);
+  REQUIRE(slow.size() == 21 * 3);  // frames 0..20 at source times 0, 0.5, ..., 10
+  for (int i = 0; i <= 20; i += 2) CHECK(slow[i * 3] == Approx((i / 2.0) * (i / 2.0)));
+  CHECK(slow[3 * 3] == Approx((1 + 4) / 2.0));  // halfway between frames 1 and 2
+  CHECK(slow[10 * 3 + 1] == 1.0f);
+  CHECK(slow[10 * 3 + 2] == -2.0f);
+  CHECK(slow[4 * 3] - 2 * slow[6 * 3] + slow[8 * 3] == Approx(2.0));  // = 2 source frames apart
+  CHECK(SlowDown(p, 1, 1.0) == p);
+  CHECK_THROWS_WITH(SlowDown(p, 1, 0), Catch::Contains("factor > 0"));
+  CHECK_THROWS_WITH(SlowDown(p, 2, 2.0), Catch::Contains("[T, 2, 3]"));
+}

@@ -139,12 +139,15 @@ TEST_CASE("refiner blend: bins of the local correction size, the blend, least-sq
   CHECK(size[20] == Approx(100 * std::sqrt(3 * 0.0004 * 3 / 5)));  // 3 of its 5 frames
   // The input is smooth (roughness 0: bin 0), so bin 0's weight applies.
   CHECK(InputRoughnessCm(input, J) == std::vector<double>(T, 0.0));
-  RefinerBlend blend{0, std::vector<double>(kRefinerBlendBins, 1.0)};
+  RefinerBlend blend;
+  blend.weights.assign(kRefinerBlendBins, 1.0);
   blend.weights[0] = 0.5;
   const std::vector<float> out = BlendRefined(input, refined, J, blend);
   CHECK(out[30 * J * 3] == Approx(0.01f));
   CHECK(BlendRefined(input, refined, J, {}) == refined);
-  CHECK_THROWS_AS(BlendRefined(input, refined, J, {0, {1.0}}), std::invalid_argument);
+  RefinerBlend one_weight;
+  one_weight.weights = {1.0};
+  CHECK_THROWS_AS(BlendRefined(input, refined, J, one_weight), std::invalid_argument);
   CHECK_THROWS_AS(BlendRefined(input, std::vector<float>(6), J, blend), std::invalid_argument);
   // A smoothed base where rough: a smooth input stays itself.
   blend.sigma = 1.5;
@@ -206,10 +209,54 @@ TEST_CASE("refiner blend: smoothing only where the correction says the input was
   CHECK(SmoothWhereNoisy(zigzag, size, J, 0) == zigzag);
   // In the blend: output smoothing where noisy lowers the acceleration; a clean frame keeps it.
   const std::vector<float> refined(zigzag.size(), 0.0f);
-  RefinerBlend blend{0, std::vector<double>(kRefinerBlendBins, 0.0)};  // keep the input
+  RefinerBlend blend;
+  blend.weights.assign(kRefinerBlendBins, 0.0);  // keep the input
   const std::vector<float> kept = BlendRefined(zigzag, refined, J, blend);
   blend.smooth = 1.0;
   const std::vector<float> smoothed = BlendRefined(zigzag, refined, J, blend);
   CHECK(kept == zigzag);
   CHECK(MeanAcceleration(smoothed, J, 30) < 0.5 * MeanAcceleration(kept, J, 30));  // every frame
+}
+
+TEST_CASE("refiner blend: the output smoothing chosen per motion by its acceleration") {
+  // One joint on a sine, fast (period 20 frames) and slow (period 80), with the same noise of
+  // 3 mm: the slow motion's accelerations are 16 times smaller beside the same noise, so it is
+  // smoothed by a wider Gaussian before its acceleration comes within the bound.
+  const int J = 1, T = 160;
+  std::mt19937 rng(5);
+  std::normal_distribution<float> noise(0.0f, 0.003f);
+  auto sine = [&](double period, bool noisy) {
+    std::vector<float> p(T * 3);
+    for (int t = 0; t < T; ++t)
+      for (int a = 0; a < 3; ++a)
+        p[t * 3 + a] = 0.1f * static_cast<float>(std::sin(2 * M_PI * t / period + a)) +
+                       (noisy ? noise(rng) : 0.0f);
+    return p;
+  };
+  const std::vector<double> rough(T, 2.0);  // every frame rough: smoothed fully
+  // The sigma SmoothToAcceleration chose: the one of kOutputSmoothings that gives its output.
+  auto chosen = [&](const std::vector<float>& motion, double bound) {
+    const std::vector<float> out = SmoothToAcceleration(motion, rough, J, bound);
+    for (double sigma : kOutputSmoothings)
+      if (SmoothWhereNoisy(motion, rough, J, sigma) == out) return sigma;
+    FAIL("no candidate smoothing gives the output");
+    return -1.0;
+  };
+  const double fast = chosen(sine(20, true), 1.5), slow = chosen(sine(80, true), 1.5);
+  CHECK(slow > fast);
+  // The chosen output moves within the bound of its reference where a candidate could.
+  const std::vector<float> s = sine(80, true);
+  const std::vector<float> out = SmoothToAcceleration(s, rough, J, 1.5);
+  CHECK(MeanAcceleration(out, J, 1) <=
+        1.5 * MeanAcceleration(GaussianSmooth(s, J, kAccelReferenceSigma), J, 1));
+  // Where no frame is rough, the motion is kept as it is; a very loose bound smooths nothing.
+  CHECK(SmoothToAcceleration(s, std::vector<double>(T, 0.2), J, 1.5) == s);
+  CHECK(chosen(s, 100) == 0.0);
+  // In the blend, accel_bound replaces the fixed smoothing.
+  RefinerBlend blend;
+  blend.weights.assign(kRefinerBlendBins, 0.0);  // keep the input
+  blend.accel_bound = 1.5;
+  const std::vector<double> input_rough = InputRoughnessCm(s, J, 15, blend.roughness);
+  CHECK(BlendRefined(s, std::vector<float>(s.size(), 0.0f), J, blend) ==
+        SmoothToAcceleration(s, input_rough, J, 1.5));
 }

@@ -235,6 +235,16 @@ TEST_CASE(
     CHECK(LoadDvaeManifest(tmp.file("smooth.yaml")).refiner_blend.smooth == 0.75);
     m2.refiner_blend.smooth = 0;
     CHECK(FormatDvaeManifest(m2).find("smooth:") == std::string::npos);
+    m2.refiner_blend.accel_bound = 2.5;  // the smoothing chosen per motion
+    std::ofstream(tmp.file("bound.yaml")) << FormatDvaeManifest(m2);
+    CHECK(LoadDvaeManifest(tmp.file("bound.yaml")).refiner_blend.accel_bound == 2.5);
+    std::string text = FormatDvaeManifest(m2);
+    text.replace(text.find("accel_bound: 2.5"), 16, "accel_bound: -1");
+    std::ofstream(tmp.file("bad_bound.yaml")) << text;
+    CHECK_THROWS_WITH(LoadDvaeManifest(tmp.file("bad_bound.yaml")),
+                      Contains("accel_bound in [0, 100]"));
+    m2.refiner_blend.accel_bound = 0;
+    CHECK(FormatDvaeManifest(m2).find("accel_bound:") == std::string::npos);
   }
   {  // the outlier repair round-trips; absent, there is none; a bad one is refused, named
     DvaeManifest m2 = model.manifest();

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/motion_noise.h"
+#include "core/resample.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/filter_tuning.h"
 
@@ -27,6 +28,12 @@ Sequences TuningClips(const Dataset& ds, int count) {
   for (int i = 0; i < used; ++i)
     out.push_back(ds.clips[train[static_cast<size_t>(i) * train.size() / used]].motion.positions());
   return out;
+}
+
+Sequences SlowedDown(Sequences clips, int J, double factor) {
+  if (factor != 1)
+    for (auto& q : clips) q = SlowDown(q, J, factor);
+  return clips;
 }
 
 struct Figures {
@@ -119,6 +126,9 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
   for (int i = 0; i < used; ++i) {
     clean.push_back(ds.clips[test[static_cast<size_t>(i) * test.size() / used]].motion.positions());
   }
+  const Sequences tuning = SlowedDown(TuningClips(ds, o.tuning_clips), J, o.slow);
+  clean = SlowedDown(clean, J, o.slow);
+  e.slow = o.slow;
   e.clips = used;
   e.optimisation_clips = std::min(o.optimisation_clips, used);
   for (int c = 0; c < used; ++c) {
@@ -127,7 +137,6 @@ DvaeEvaluation EvaluateDvae(const DvaeModel& model, const Dataset& ds, const Dva
     if (c < e.optimisation_clips) e.optimisation_frames += n;
   }
   e.test_style = ds.clips[test[0]].subject;
-  const Sequences tuning = TuningClips(ds, o.tuning_clips);
   e.tuning_clips = static_cast<int>(tuning.size());
   for (const auto& q : tuning) e.tuning_frames += static_cast<long long>(q.size() / (3 * J));
   e.clean_accel = Measure(clean, clean, J, fps).accel;

@@ -35,6 +35,9 @@ struct DvaeEvalOptions {
   HistoryForecaster forecaster;  // forecast empty = no forecasting figures
   int forecast_windows = 300;
   int k = 50;
+  // Test and tuning clips played this many times slower (core/resample.h SlowDown; 1: as they
+  // are): how the denoiser fares on slower motion than it was trained on (not the forecasting).
+  double slow = 1;
 };
 
 // A classical filter with the parameters that did best on the tuning clips for one noise kind.
@@ -69,6 +72,7 @@ struct DvaeEvaluation {
   long long optimisation_frames = 0;
   std::string test_style;  // subject of the test clips (a style unseen in training)
   double clean_accel = 0;  // m/s^2
+  double slow = 1;         // DvaeEvalOptions::slow
   int samples = 0;         // posterior draws
   int iterations = 0;      // optimisation mode
   std::vector<DenoisingRow> settings;

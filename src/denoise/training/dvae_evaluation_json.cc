@@ -21,6 +21,7 @@ nlohmann::ordered_json DvaeEvaluationJson(const DvaeEvaluation& e, const std::st
   MOTIONFORK_JSON_MEMBERS(j, e, clips, frames, tuning_clips, tuning_frames, clean_accel, samples,
                           iterations, optimisation_clips, regression_frames_per_s);
   j["settings"] = json(nlohmann::json(e.settings));
+  if (e.slow != 1) j["slow"] = e.slow;
   if (e.optimisation_clips > 0) j["optimisation_frames_per_s"] = e.optimisation_frames_per_s;
   if (e.refiner) j["refiner_frames_per_s"] = e.refiner_frames_per_s;
   if (e.forecasting) {

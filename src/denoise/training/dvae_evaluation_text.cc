@@ -28,6 +28,7 @@ std::string DvaeEvaluationHeaderText(const DvaeEvaluation& e, const DvaeModel& m
       WithThousands(e.frames).c_str(), e.test_style.c_str(), e.clean_accel, e.samples,
       e.optimisation_clips, WithThousands(e.optimisation_frames).c_str(), e.iterations,
       e.tuning_clips, WithThousands(e.tuning_frames).c_str());
+  if (e.slow != 1) StringAppendf(&s, "test and tuning clips played %g times slower\n", e.slow);
   StringAppendf(&s,
                 "\n%-18s %7s %8s %8s %8s %8s %8s %8s %8s %8s %9s %8s   accel / clean: noisy  "
                 "best filter  denoised  refined  optimised\n",

@@ -14,6 +14,7 @@
 #include "bundle/dvae_bundle.h"
 #include "bundle/manifest.h"
 #include "core/motion_noise.h"
+#include "core/resample.h"
 #include "dataset/windows.h"
 #include "denoise/denoise_metrics.h"
 #include "denoise/dvae_objective.h"
@@ -422,6 +423,35 @@ void AddWindowPair(const float* clean, const std::vector<float>& noisy, int join
   ++target->count;
 }
 
+using Motions = std::vector<std::vector<float>>;
+
+// Each kind's motions blended by `blend` (into *blended when given), and the sum over the kinds
+// of the log of their mean squared error against the clean motions ((0.1 mm)^2 added: a clean
+// clip's floor), so that each kind counts by its relative error.
+double BlendKinds(const std::vector<Motions>& inputs, const std::vector<Motions>& refined,
+                  const Motions& clean, int joints, const RefinerBlend& blend,
+                  std::vector<Motions>* blended = nullptr) {
+  double log_error = 0;
+  if (blended) blended->assign(inputs.size(), {});
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    double squared = 0, values = 0;
+    for (size_t q = 0; q < inputs[k].size(); ++q) {
+      std::vector<float> b = BlendRefined(inputs[k][q], refined[k][q], joints, blend);
+      for (size_t i = 0; i < b.size(); ++i) {
+        const double e = b[i] - clean[q][i];
+        squared += e * e;
+      }
+      values += static_cast<double>(b.size());
+      if (blended) (*blended)[k].push_back(std::move(b));
+    }
+    log_error += std::log(squared / values + 1e-8);
+  }
+  return log_error;
+}
+
+// The denoised motion's acceleration over the clean motion's should lie within [1/x, x] (issue 25).
+constexpr double kAccelRatioRange = 2.0;
+
 // One of the specs at a uniform share of its level (sigma, and the rate of outliers).
 NoiseSpec RandomLevel(const std::vector<NoiseSpec>& kinds, std::mt19937_64& rng) {
   NoiseSpec spec = kinds[rng() % kinds.size()];
@@ -451,15 +481,17 @@ torch::Tensor RefinerLoss(const torch::Tensor& refined, const torch::Tensor& cle
   return loss;
 }
 
-// The refiner's blend (refiner_blend.h) on whole held-out clips: each clip clean and under each of
-// the evaluation's noise kinds (other draws than any test) and small outliers. For each outlier
-// repair of the grid (outlier_repair.h; none among them) the inputs are repaired and refined, and
-// for each roughness measure the weights fitted for each base smoothing, the one of least summed
-// error kept; the repair and measure kept are the ones of least summed log error over the kinds
-// (each kind counted by its relative error, so that outliers of 1 cm weigh as much as noise of 10
-// cm). (Fitting on 0.5 s histories cut from them as well lowered the weights of every bin and cost
-// whole clips up to 0.26 cm on validation styles while leaving the forecast from a denoised clean
-// history where it was: not done.)
+// The refiner's blend (refiner_blend.h) on whole held-out clips, as recorded and played twice as
+// slow (a slower style), each clean and under the evaluation's noise kinds (other draws than any
+// test) and small ones. For each outlier repair of the grid (outlier_repair.h; none among them) the
+// inputs are repaired and refined, and for each roughness measure the weights fitted for each base
+// smoothing, the one of least summed error kept; the repair and measure kept are the ones of least
+// summed log error over the kinds (each kind counted by its relative error, so that outliers of 1
+// cm weigh as much as noise of 10 cm). Then the output smoothing (fixed, or chosen per motion by
+// its acceleration) of least summed log error among those whose noisy outputs move within 1/2x-2x
+// the clean clips' acceleration at both speeds. (Fitting on 0.5 s histories cut from the clips as
+// well lowered the weights of every bin and cost whole clips up to 0.26 cm on validation styles
+// while leaving the forecast from a denoised clean history where it was: not done.)
 RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint64_t seed) {
   const std::vector<std::string> kinds = {"",
                                           "gaussian:0.01",
@@ -472,14 +504,21 @@ RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint6
                                           "jitter:0.05",
                                           "outliers:0.1,0.02",
                                           "outliers:0.1,0.05",
-                                          "outliers:0.1,0.1"};
+                                          "outliers:0.1,0.1",
+                                          "outliers:0.1,0.01",
+                                          "jitter:0.01"};
   DenoiseOptions raw = model.manifest().denoise;
   raw.mode = DenoiseMode::kRefiner;
   raw.refiner_blend = false;
-  std::vector<std::vector<std::vector<float>>> noisy(kinds.size());
+  // The held-out clips as they are and played twice as slow (a slower style's motion: noise left
+  // after denoising shows more against its smaller accelerations).
+  Motions clips = data.held_out;
+  const size_t as_recorded = clips.size();
+  for (size_t q = 0; q < as_recorded; ++q) clips.push_back(SlowDown(clips[q], data.joints, 2.0));
+  std::vector<Motions> noisy(kinds.size());
   for (size_t k = 0; k < kinds.size(); ++k) {
     std::mt19937_64 rng(seed + 4242 + k);
-    noisy[k] = data.held_out;
+    noisy[k] = clips;
     if (!kinds[k].empty()) {
       const NoiseSpec spec = ParseNoiseSpec(kinds[k]);
       for (auto& q : noisy[k]) {
@@ -487,16 +526,14 @@ RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint6
       }
     }
   }
-  std::vector<OutlierRepair> repairs = {OutlierRepair{}};
-  for (bool trend : {false, true}) {
-    for (int half : {3, 5})
-      for (double deviations : {2.0, 3.0, 4.0, 6.0}) repairs.push_back({half, deviations, trend});
-  }
+  std::vector<OutlierRepair> repairs = {OutlierRepair{}, {3, 3.0, false}, {3, 4.0, false}};
+  for (int half : {3, 5})
+    for (double deviations : {3.0, 4.0, 6.0}) repairs.push_back({half, deviations, true});
   RefinerBlend best;
-  std::vector<std::vector<std::vector<float>>> inputs, refined;
+  std::vector<Motions> inputs, refined;
   double least_log = INFINITY;
   for (const OutlierRepair& repair : repairs) {
-    std::vector<std::vector<std::vector<float>>> in(kinds.size()), out(kinds.size());
+    std::vector<Motions> in(kinds.size()), out(kinds.size());
     for (size_t k = 0; k < kinds.size(); ++k) {
       for (const auto& q : noisy[k]) in[k].push_back(RepairOutliers(q, data.joints, repair));
       out[k] = model.Denoise(in[k], raw);
@@ -506,26 +543,13 @@ RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint6
       double least = INFINITY;
       for (double sigma : {0.0, 0.5, 1.0, 1.5, 2.0}) {
         RefinerBlendFit fit(sigma, roughness);
-        for (size_t k = 0; k < kinds.size(); ++k)
-          fit.AddSetting(in[k], out[k], data.held_out, data.joints);
+        for (size_t k = 0; k < kinds.size(); ++k) fit.AddSetting(in[k], out[k], clips, data.joints);
         if (fit.Error() < least) {
           least = fit.Error();
           blend = fit.Blend();
         }
       }
-      double log_error = 0;
-      for (size_t k = 0; k < kinds.size(); ++k) {
-        double squared = 0, values = 0;
-        for (size_t q = 0; q < in[k].size(); ++q) {
-          const std::vector<float> b = BlendRefined(in[k][q], out[k][q], data.joints, blend);
-          for (size_t i = 0; i < b.size(); ++i) {
-            const double e = b[i] - data.held_out[q][i];
-            squared += e * e;
-          }
-          values += static_cast<double>(b.size());
-        }
-        log_error += std::log(squared / values + 1e-8);  // (0.1 mm)^2: a clean clip's floor
-      }
+      const double log_error = BlendKinds(in, out, clips, data.joints, blend);
       if (log_error < least_log) {
         least_log = log_error;
         best = blend;
@@ -535,27 +559,47 @@ RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint6
       }
     }
   }
-  // The output smoothing whose noisy outputs move most like the clean motion: the least sum over
-  // the noisy kinds of log(acceleration / the clean clips')^2.
-  double clean_accel = 0;
-  for (const auto& q : data.held_out) clean_accel += MeanAcceleration(q, data.joints, 1.0);
-  double closest = INFINITY;
-  RefinerBlend candidate = best;
+  // The output smoothing, fixed or chosen per motion (SmoothToAcceleration): the one of least
+  // summed log error among those whose noisy outputs' acceleration is within kAccelRatioRange of
+  // the clean clips' for every noisy kind at both speeds; where none is, the one of the least
+  // largest |log(ratio)|.
+  const auto accel_of = [&](const Motions& motions, size_t from, size_t to) {
+    double sum = 0;
+    for (size_t q = from; q < to; ++q) sum += MeanAcceleration(motions[q], data.joints, 1.0);
+    return sum;
+  };
+  const double clean_accel[2] = {accel_of(clips, 0, as_recorded),
+                                 accel_of(clips, as_recorded, clips.size())};
+  std::vector<RefinerBlend> candidates;
   for (double smooth : {0.0, 0.5, 0.75, 1.0, 1.5}) {
-    candidate.smooth = smooth;
-    double misfit = 0;
+    candidates.push_back(best);
+    candidates.back().smooth = smooth;
+  }
+  for (double bound : {1.25, 1.5, 2.0, 2.5, 3.0, 4.0}) {
+    candidates.push_back(best);
+    candidates.back().smooth = 0;
+    candidates.back().accel_bound = bound;
+  }
+  double least_misfit = INFINITY, least_error = INFINITY;
+  for (const RefinerBlend& candidate : candidates) {
+    std::vector<Motions> blended;
+    const double log_error = BlendKinds(inputs, refined, clips, data.joints, candidate, &blended);
+    double misfit = 0;  // the largest |log(ratio)|
     for (size_t k = 0; k < kinds.size(); ++k) {
       if (kinds[k].empty()) continue;
-      double accel = 0;
-      for (size_t q = 0; q < inputs[k].size(); ++q) {
-        accel += MeanAcceleration(BlendRefined(inputs[k][q], refined[k][q], data.joints, candidate),
-                                  data.joints, 1.0);
+      for (int speed = 0; speed < 2; ++speed) {
+        const double ratio =
+            accel_of(blended[k], speed ? as_recorded : 0, speed ? clips.size() : as_recorded) /
+            clean_accel[speed];
+        misfit = std::max(misfit, std::abs(std::log(ratio)));
       }
-      misfit += std::pow(std::log(accel / clean_accel), 2);
     }
-    if (misfit < closest) {
-      closest = misfit;
-      best.smooth = smooth;
+    const bool inside = misfit <= std::log(kAccelRatioRange);
+    if (inside ? (least_misfit > std::log(kAccelRatioRange) || log_error < least_error)
+               : (least_misfit > std::log(kAccelRatioRange) && misfit < least_misfit)) {
+      best = candidate;
+      least_error = log_error;
+      least_misfit = misfit;
     }
   }
   return best;

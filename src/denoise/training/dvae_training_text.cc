@@ -36,15 +36,21 @@ std::string RefinerBlendText(const RefinerBlend& blend) {
       "by sigma %.3g frames; weight of the correction by the input's roughness (against its %s "
       "smoothing):",
       blend.sigma, RoughnessName(blend.roughness).c_str());
-  const std::string smooth = StringPrintf(
-      "; where the roughness exceeds %g cm, the output smoothed by sigma %.3g frames (the noisy "
-      "outputs' acceleration closest to the clean clips')",
-      kSmoothFromCm, blend.smooth);
+  const std::string smooth =
+      blend.accel_bound > 0
+          ? StringPrintf(
+                "; where the roughness exceeds %g cm, the output smoothed by the least Gaussian "
+                "that brings its acceleration to %.3g x its own smoothed by %g frames",
+                kSmoothFromCm, blend.accel_bound, kAccelReferenceSigma)
+          : StringPrintf(
+                "; where the roughness exceeds %g cm, the output smoothed by sigma %.3g "
+                "frames",
+                kSmoothFromCm, blend.smooth);
   for (size_t b = 0; b < weights.size(); ++b) {
     StringAppendf(&s, "%s %s %.2f", b ? "," : "", RefinerBlendBinName(static_cast<int>(b)).c_str(),
                   weights[b]);
   }
-  return s + (blend.smooth > 0 ? smooth : "") +
+  return s + (blend.smooth > 0 || blend.accel_bound > 0 ? smooth : "") +
          "; outliers repaired first: " + DescribeOutlierRepair(blend.outliers) + "\n";
 }
 

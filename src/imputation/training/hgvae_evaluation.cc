@@ -108,8 +108,21 @@ ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
   const std::vector<float> hist = probe.Histories();
   ForecastingFigures f{o.forecaster.name, o.k, H, probe.Score(hist), {}};
   const std::vector<Occlusion> settings = StandardOcclusions(model.skeleton());
+  for (const std::string& name : o.forecast_occlusions) {
+    if (std::none_of(settings.begin(), settings.end(),
+                     [&name](const Occlusion& oc) { return oc.name == name; })) {
+      std::string known;
+      for (const Occlusion& oc : settings) known += (known.empty() ? "'" : ", '") + oc.name + "'";
+      throw std::invalid_argument("no forecasting occlusion '" + name + "'; expected one of " +
+                                  known);
+    }
+  }
   for (size_t s = 0; s < settings.size(); ++s) {
     const Occlusion& oc = settings[s];
+    if (!o.forecast_occlusions.empty() &&
+        std::find(o.forecast_occlusions.begin(), o.forecast_occlusions.end(), oc.name) ==
+            o.forecast_occlusions.end())
+      continue;
     const std::vector<uint8_t> mask =
         oc.share > 0 ? RandomOcclusion(H, T * model.coords(), oc.share, o.seed + 99 + s)
                      : JointOcclusion(H, T, J, oc.joints);

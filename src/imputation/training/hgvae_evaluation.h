@@ -29,7 +29,10 @@ struct HgvaeEvalOptions {
   HistoryForecaster forecaster;  // forecast empty = no forecasting figures
   int forecast_windows = 500;    // protocol test windows forecast
   int k = 50;                    // futures per history
-  StageProgress progress;        // "imputation", "gaps", "forecasting"
+  // The forecasting rows to run, by occlusion name ("random 50%", "left arm"; StandardOcclusions);
+  // empty: all. Each keeps the masks it has in a run of all.
+  std::vector<std::string> forecast_occlusions;
+  StageProgress progress;  // "imputation", "gaps", "forecasting"
 };
 
 // Means over windows (nats per window, densities in metres; squared errors in m^2 per value).
