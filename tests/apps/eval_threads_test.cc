@@ -128,6 +128,11 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
     CHECK(bad.status == 2);
     CHECK_THAT(bad.output, Catch::Contains("no forecasting occlusion 'left ear'") &&
                                Catch::Contains("'random 50%'"));
+    const Run no_forecaster =
+        Motionfork("-q hgvae eval --model " + models + "/hgvae --data " + data + " --split " +
+                   dir.file("split.tsv") + " --windows 10 --forecast-occlusion 'random 50%'");
+    CHECK(no_forecaster.status == 2);
+    CHECK_THAT(no_forecaster.output, Catch::Contains("no forecaster was given"));
   }
   SECTION("dvae eval: regression and optimisation modes, forecasting") {
     CheckSameFigures(

@@ -88,6 +88,23 @@ std::vector<float> FillHistories(FillMethod method, const HgvaeModel& model,
   return out;
 }
 
+// Throws std::invalid_argument naming a forecasting row the options ask for that is not one of the
+// standard occlusions, or rows asked for without a forecaster (before any work is done).
+void CheckForecastOcclusions(const HgvaeModel& model, const HgvaeEvalOptions& o) {
+  if (!o.forecast_occlusions.empty() && !o.forecaster.forecast)
+    throw std::invalid_argument("forecasting rows were named, but no forecaster was given");
+  const std::vector<Occlusion> settings = StandardOcclusions(model.skeleton());
+  for (const std::string& name : o.forecast_occlusions) {
+    if (std::none_of(settings.begin(), settings.end(),
+                     [&name](const Occlusion& oc) { return oc.name == name; })) {
+      std::string known;
+      for (const Occlusion& oc : settings) known += (known.empty() ? "'" : ", '") + oc.name + "'";
+      throw std::invalid_argument("no forecasting occlusion '" + name + "'; expected one of " +
+                                  known);
+    }
+  }
+}
+
 // Forecasting from clean, mean-imputed and HG-VAE-imputed histories of protocol test windows
 // (the HG-VAE's window imputation with the options' steps, 10 where they are 0), and from the
 // same histories filled over the history alone by linear and spline interpolation, rigid limbs and
@@ -108,15 +125,6 @@ ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
   const std::vector<float> hist = probe.Histories();
   ForecastingFigures f{o.forecaster.name, o.k, H, probe.Score(hist), {}};
   const std::vector<Occlusion> settings = StandardOcclusions(model.skeleton());
-  for (const std::string& name : o.forecast_occlusions) {
-    if (std::none_of(settings.begin(), settings.end(),
-                     [&name](const Occlusion& oc) { return oc.name == name; })) {
-      std::string known;
-      for (const Occlusion& oc : settings) known += (known.empty() ? "'" : ", '") + oc.name + "'";
-      throw std::invalid_argument("no forecasting occlusion '" + name + "'; expected one of " +
-                                  known);
-    }
-  }
   for (size_t s = 0; s < settings.size(); ++s) {
     const Occlusion& oc = settings[s];
     if (!o.forecast_occlusions.empty() &&
@@ -172,6 +180,7 @@ std::vector<float> HgvaeTestWindows(const Dataset& ds, int window, int limit) {
 
 HgvaeEvaluation EvaluateHgvae(const HgvaeModel& model, const Dataset& dataset,
                               const HgvaeEvalOptions& o) {
+  CheckForecastOcclusions(model, o);
   const std::vector<float> windows = HgvaeTestWindows(dataset, model.window(), o.windows);
   const HgvaeManifest& m = model.manifest();
   HgvaeEvaluation e;
