@@ -5,6 +5,28 @@
 #include <stdexcept>
 
 namespace motionfork {
+namespace {
+
+// Frames [out_frames, F] linearly interpolated in time from positions [T, F] (T >= 1): frame i at
+// source time source_time(i), in source frames (past the last frame: the last frame).
+template <typename SourceTime>
+std::vector<float> InterpolateFrames(const float* positions, int T, size_t F, int out_frames,
+                                     SourceTime source_time) {
+  std::vector<float> out(static_cast<size_t>(out_frames) * F);
+  for (int i = 0; i < out_frames; ++i) {
+    const double s = source_time(i);
+    const int s0 = std::min(T - 1, static_cast<int>(std::floor(s + 1e-9)));
+    const int s1 = std::min(T - 1, s0 + 1);
+    const double w = s1 == s0 ? 0.0 : std::max(0.0, s - s0);
+    const float* a = positions + static_cast<size_t>(s0) * F;
+    const float* b = positions + static_cast<size_t>(s1) * F;
+    float* d = out.data() + static_cast<size_t>(i) * F;
+    for (size_t k = 0; k < F; ++k) d[k] = static_cast<float>(a[k] + w * (b[k] - a[k]));
+  }
+  return out;
+}
+
+}  // namespace
 
 Motion Resample(const Motion& motion, double target_fps) {
   if (!(target_fps > 0) || !std::isfinite(target_fps)) {
@@ -16,20 +38,9 @@ Motion Resample(const Motion& motion, double target_fps) {
   const double ratio = motion.fps() / target_fps;  // source frames per target frame
   // Small tolerance so that e.g. (T-1)/ratio = 29.9999999 still yields its last frame.
   const int out_frames = static_cast<int>(std::floor((T - 1) / ratio + 1e-9)) + 1;
-  const size_t stride = static_cast<size_t>(motion.num_joints()) * 3;
-  std::vector<float> out(out_frames * stride);
-  for (int i = 0; i < out_frames; ++i) {
-    const double s = i * ratio;
-    int s0 = static_cast<int>(std::floor(s + 1e-9));
-    if (s0 > T - 1) s0 = T - 1;
-    const int s1 = s0 + 1 < T ? s0 + 1 : s0;
-    const double w = s1 == s0 ? 0.0 : std::max(0.0, s - s0);
-    const float* a = motion.frame(s0);
-    const float* b = motion.frame(s1);
-    float* d = out.data() + i * stride;
-    for (size_t k = 0; k < stride; ++k) d[k] = static_cast<float>(a[k] + w * (b[k] - a[k]));
-  }
-  return Motion(motion.skeleton_ptr(), target_fps, std::move(out));
+  return Motion(motion.skeleton_ptr(), target_fps,
+                InterpolateFrames(motion.frame(0), T, static_cast<size_t>(motion.num_joints()) * 3,
+                                  out_frames, [ratio](int i) { return i * ratio; }));
 }
 
 std::vector<float> SlowDown(const std::vector<float>& positions, int joints, double factor) {
@@ -43,18 +54,8 @@ std::vector<float> SlowDown(const std::vector<float>& positions, int joints, dou
   const int T = static_cast<int>(positions.size() / F);
   if (T == 0) return {};
   const int out_frames = static_cast<int>(std::floor((T - 1) * factor + 1e-9)) + 1;
-  std::vector<float> out(static_cast<size_t>(out_frames) * F);
-  for (int i = 0; i < out_frames; ++i) {
-    const double s = i / factor;
-    const int s0 = std::min(T - 1, static_cast<int>(std::floor(s + 1e-9)));
-    const int s1 = std::min(T - 1, s0 + 1);
-    const double w = s1 == s0 ? 0.0 : std::max(0.0, s - s0);
-    for (size_t k = 0; k < F; ++k) {
-      const float a = positions[s0 * F + k], b = positions[s1 * F + k];
-      out[i * F + k] = static_cast<float>(a + w * (b - a));
-    }
-  }
-  return out;
+  return InterpolateFrames(positions.data(), T, F, out_frames,
+                           [factor](int i) { return i / factor; });
 }
 
 }  // namespace motionfork
