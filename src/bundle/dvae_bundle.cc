@@ -206,13 +206,11 @@ DvaeManifest LoadDvaeManifest(const std::string& path, BundleChecksums* checksum
       blend.smooth = GetOr<double>(path, b, "smooth", 0.0);
       blend.accel_bound = GetOr<double>(path, b, "accel_bound", 0.0);
       if (b["roughness"]) {
-        const std::string kind = Get<std::string>(path, b, "roughness");
-        if (kind != "gaussian" && kind != "savitzky-golay") {
-          Fail(
-              path, b["roughness"],
-              "refiner_blend.roughness: expected gaussian or savitzky-golay, found '" + kind + "'");
+        try {
+          blend.roughness = RoughnessNamed(Get<std::string>(path, b, "roughness"));
+        } catch (const std::invalid_argument& e) {
+          Fail(path, b["roughness"], std::string("refiner_blend.roughness: ") + e.what());
         }
-        blend.roughness = kind == "gaussian" ? Roughness::kGaussian : Roughness::kSavitzkyGolay;
       }
       if (const YAML::Node o = b["outliers"]) {
         if (!o.IsMap())

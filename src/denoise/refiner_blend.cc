@@ -30,20 +30,27 @@ std::string RefinerBlendBinName(int bin) {
 }
 
 std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
-                                      const std::vector<float>& refined, int joints, int half) {
+                                      const std::vector<float>& refined, int joints, int half,
+                                      bool median_over_joints) {
   if (input.size() != refined.size() || joints < 1 || input.size() % (3 * joints) != 0) {
     throw std::invalid_argument("LocalCorrectionCm: expected two motions [T, " +
                                 std::to_string(joints) + ", 3] of the same size");
   }
   const size_t F = 3 * static_cast<size_t>(joints), T = input.size() / F;
-  std::vector<double> per_frame(T, 0.0), prefix(T + 1, 0.0);
+  std::vector<double> per_frame(T, 0.0), prefix(T + 1, 0.0), per_joint(joints);
   for (size_t t = 0; t < T; ++t) {
     double sum = 0;
-    for (size_t k = 0; k < F; ++k) {
-      const double d = refined[t * F + k] - input[t * F + k];
-      sum += d * d;
+    for (int j = 0; j < joints; ++j) {
+      double dd = 0;
+      for (size_t k = t * F + 3 * j; k < t * F + 3 * j + 3; ++k) {
+        const double d = refined[k] - input[k];
+        dd += d * d;
+      }
+      per_joint[j] = dd;
+      sum += dd;
     }
-    prefix[t + 1] = prefix[t] + sum / joints;  // squared distance per joint, m^2
+    // squared distance per joint, m^2
+    prefix[t + 1] = prefix[t] + (median_over_joints ? MedianInPlace(&per_joint) : sum / joints);
   }
   for (size_t t = 0; t < T; ++t) {
     const size_t a = t >= static_cast<size_t>(half) ? t - half : 0,
@@ -54,7 +61,24 @@ std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
 }
 
 std::string RoughnessName(Roughness kind) {
-  return kind == Roughness::kGaussian ? "gaussian" : "savitzky-golay";
+  switch (kind) {
+    case Roughness::kGaussian:
+      return "gaussian";
+    case Roughness::kSavitzkyGolay:
+      return "savitzky-golay";
+    case Roughness::kSavitzkyGolayMedian:
+      return "savitzky-golay-median";
+  }
+  return "?";
+}
+
+Roughness RoughnessNamed(const std::string& name) {
+  for (Roughness kind :
+       {Roughness::kGaussian, Roughness::kSavitzkyGolay, Roughness::kSavitzkyGolayMedian}) {
+    if (RoughnessName(kind) == name) return kind;
+  }
+  throw std::invalid_argument(
+      "expected gaussian, savitzky-golay or savitzky-golay-median, found '" + name + "'");
 }
 
 std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints, int half,
@@ -62,7 +86,7 @@ std::vector<double> InputRoughnessCm(const std::vector<float>& input, int joints
   const std::vector<float> smooth = kind == Roughness::kGaussian
                                         ? GaussianSmooth(input, joints, 1.0)
                                         : SavitzkyGolay(input, joints, 3, 3);
-  return LocalCorrectionCm(input, smooth, joints, half);
+  return LocalCorrectionCm(input, smooth, joints, half, kind == Roughness::kSavitzkyGolayMedian);
 }
 
 std::vector<float> SmoothWhereNoisy(const std::vector<float>& motion,

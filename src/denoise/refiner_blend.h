@@ -30,15 +30,24 @@ std::string RefinerBlendBinName(int bin);  // "0.75-1 cm"
 
 // Per frame of a motion [T, J, 3], the RMS over the joints and the frames within `half` of it of
 // the distance between refined and input, cm.
+// median_over_joints: each frame's squared distance the median over the joints instead of the mean.
 std::vector<double> LocalCorrectionCm(const std::vector<float>& input,
-                                      const std::vector<float>& refined, int joints, int half = 15);
+                                      const std::vector<float>& refined, int joints, int half = 15,
+                                      bool median_over_joints = false);
 
 // What the roughness of a motion is measured against: itself smoothed by a Gaussian of 1 frame
 // (the first bundles'), or by a Savitzky-Golay fit of order 3 over 7 frames, which follows fast
 // smooth motion (a turning hand) where the Gaussian cuts corners, so that fast clean motion does
 // not look rough; on white noise both leave about three quarters of it.
-enum class Roughness { kGaussian, kSavitzkyGolay };
-std::string RoughnessName(Roughness kind);  // "gaussian", "savitzky-golay"
+// kSavitzkyGolayMedian: against the Savitzky-Golay fit, each frame's distance the median over
+// the joints instead of their RMS, so that outliers left by the repair (a joint here and there)
+// do not make a motion look rough everywhere around them and get it smoothed, which spreads each
+// outlier's error over its neighbours.
+enum class Roughness { kGaussian, kSavitzkyGolay, kSavitzkyGolayMedian };
+// "gaussian", "savitzky-golay", "savitzky-golay-median"; RoughnessNamed throws
+// std::invalid_argument naming the choices for another name.
+std::string RoughnessName(Roughness kind);
+Roughness RoughnessNamed(const std::string& name);
 
 // Per frame of a motion [T, J, 3], LocalCorrectionCm between it and its smoothing of `kind`: how
 // rough it is around that frame, cm.

@@ -31,7 +31,8 @@ TEST_CASE(
       Motionfork("-q dvae eval --model " + kModel + " --data " + data +
                  " --test-clips 40 --optimisation-clips 2 --iterations 10 --noise gaussian:0.05 "
                  "--noise gaussian:0.10"
-                 " --noise outliers:0.1,0.3 --noise outliers:0.1,0.1 --noise jitter:0.05 --json " +
+                 " --noise outliers:0.1,0.3 --noise outliers:0.1,0.1 --noise outliers:0.1,0.01"
+                 " --noise jitter:0.05 --json " +
                  dir.file("e.json"));
   INFO(r.output);
   REQUIRE(r.status == 0);

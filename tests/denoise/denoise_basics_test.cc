@@ -191,6 +191,39 @@ TEST_CASE("roughness against a Savitzky-Golay fit: fast smooth motion is not rou
   CHECK(InputRoughnessCm(path, J) == gaussian);  // the default: the first bundles' measure
 }
 
+TEST_CASE("roughness, median over the joints: a joint's outliers do not make the motion rough") {
+  // Five joints on the same cubic path; in `spiky` joint 2 jumps 5 cm in every third frame (a
+  // marker the repair missed), in `noisy` every joint zigzags by 1 cm.
+  const int J = 5, T = 60;
+  std::vector<float> spiky(T * J * 3), noisy(T * J * 3);
+  for (int t = 0; t < T; ++t) {
+    for (int j = 0; j < J; ++j) {
+      for (int a = 0; a < 3; ++a) {
+        const size_t k = (static_cast<size_t>(t) * J + j) * 3 + a;
+        const float x = static_cast<float>(0.1 * t - 0.004 * t * t + 1e-4 * t * t * t + j);
+        spiky[k] = x + (j == 2 && t % 3 == 0 ? 0.05f : 0.0f);
+        noisy[k] = x + (t % 2 ? 0.01f : -0.01f);
+      }
+    }
+  }
+  const std::vector<double> rms = InputRoughnessCm(spiky, J, 15, Roughness::kSavitzkyGolay),
+                            median =
+                                InputRoughnessCm(spiky, J, 15, Roughness::kSavitzkyGolayMedian),
+                            noisy_rms = InputRoughnessCm(noisy, J, 15, Roughness::kSavitzkyGolay),
+                            noisy_median =
+                                InputRoughnessCm(noisy, J, 15, Roughness::kSavitzkyGolayMedian);
+  CHECK(rms[30] > 1.0);                         // one joint's spikes make every frame rough
+  CHECK(median[30] == Approx(0).margin(1e-3));  // the median joint is on its path
+  CHECK(noisy_median[30] > 1.0);                // noise on every joint still rough
+  CHECK(noisy_median[30] == Approx(noisy_rms[30]).epsilon(1e-4));  // all joints alike
+  for (Roughness kind :
+       {Roughness::kGaussian, Roughness::kSavitzkyGolay, Roughness::kSavitzkyGolayMedian})
+    CHECK(RoughnessNamed(RoughnessName(kind)) == kind);
+  CHECK(RoughnessName(Roughness::kSavitzkyGolayMedian) == "savitzky-golay-median");
+  CHECK_THROWS_WITH(RoughnessNamed("median"),
+                    Catch::Contains("savitzky-golay-median") && Catch::Contains("'median'"));
+}
+
 TEST_CASE("refiner blend: smoothing only where the correction says the input was noisy") {
   // One joint, 60 frames of frame-to-frame zigzag; roughness 0 cm in frames 0-19, ramping
   // 0.5 -> 1 cm over 20-39 (0.75 cm at 30) and 2 cm from 40 on.

@@ -246,6 +246,19 @@ TEST_CASE(
     m2.refiner_blend.accel_bound = 0;
     CHECK(FormatDvaeManifest(m2).find("accel_bound:") == std::string::npos);
   }
+  {  // the roughness measure round-trips; an unknown one is refused, named, with the choices
+    DvaeManifest m2 = model.manifest();
+    m2.refiner_blend.roughness = Roughness::kSavitzkyGolayMedian;
+    std::string text = FormatDvaeManifest(m2);
+    std::ofstream(tmp.file("median.yaml")) << text;
+    CHECK(LoadDvaeManifest(tmp.file("median.yaml")).refiner_blend.roughness ==
+          Roughness::kSavitzkyGolayMedian);
+    text.replace(text.find("savitzky-golay-median"), 21, "mean-of-joints");
+    std::ofstream(tmp.file("bad_roughness.yaml")) << text;
+    CHECK_THROWS_WITH(LoadDvaeManifest(tmp.file("bad_roughness.yaml")),
+                      Contains("refiner_blend.roughness") && Contains("savitzky-golay-median") &&
+                          Contains("'mean-of-joints'"));
+  }
   {  // the outlier repair round-trips; absent, there is none; a bad one is refused, named
     DvaeManifest m2 = model.manifest();
     m2.refiner_blend.outliers = {3, 4.5};

@@ -488,10 +488,11 @@ torch::Tensor RefinerLoss(const torch::Tensor& refined, const torch::Tensor& cle
 // smoothing, the one of least summed error kept; the repair and measure kept are the ones of least
 // summed log error over the kinds (each kind counted by its relative error, so that outliers of 1
 // cm weigh as much as noise of 10 cm). Then the output smoothing (fixed, or chosen per motion by
-// its acceleration) of least summed log error among those whose noisy outputs move within 1/2x-2x
-// the clean clips' acceleration at both speeds. (Fitting on 0.5 s histories cut from the clips as
-// well lowered the weights of every bin and cost whole clips up to 0.26 cm on validation styles
-// while leaving the forecast from a denoised clean history where it was: not done.)
+// its acceleration), with the measure as fitted or its median over the joints, of least summed log
+// error among those whose noisy outputs move within 1/2x-2x the clean clips' acceleration at both
+// speeds. (Fitting on 0.5 s histories cut from the clips as well lowered the weights of every bin
+// and cost whole clips up to 0.26 cm on validation styles while leaving the forecast from a
+// denoised clean history where it was: not done.)
 RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint64_t seed) {
   const std::vector<std::string> kinds = {"",
                                           "gaussian:0.01",
@@ -570,15 +571,25 @@ RefinerBlend FitRefinerBlend(const DvaeModel& model, const DvaeData& data, uint6
   };
   const double clean_accel[2] = {accel_of(clips, 0, as_recorded),
                                  accel_of(clips, as_recorded, clips.size())};
+  // Each with the measure fitted and, for the Savitzky-Golay one, with its median over the joints
+  // (the same weights): where the repair left an outlier here and there, the median does not call
+  // the motion rough, and so does not smooth it, which spreads each outlier's error.
+  std::vector<Roughness> measures = {best.roughness};
+  if (best.roughness == Roughness::kSavitzkyGolay)
+    measures.push_back(Roughness::kSavitzkyGolayMedian);
   std::vector<RefinerBlend> candidates;
-  for (double smooth : {0.0, 0.5, 0.75, 1.0, 1.5}) {
-    candidates.push_back(best);
-    candidates.back().smooth = smooth;
-  }
-  for (double bound : {1.25, 1.5, 2.0, 2.5, 3.0, 4.0}) {
-    candidates.push_back(best);
-    candidates.back().smooth = 0;
-    candidates.back().accel_bound = bound;
+  for (Roughness measure : measures) {
+    RefinerBlend blend = best;
+    blend.roughness = measure;
+    for (double smooth : {0.0, 0.5, 0.75, 1.0, 1.5}) {
+      candidates.push_back(blend);
+      candidates.back().smooth = smooth;
+    }
+    for (double bound : {1.25, 1.5, 2.0, 2.5, 3.0, 4.0}) {
+      candidates.push_back(blend);
+      candidates.back().smooth = 0;
+      candidates.back().accel_bound = bound;
+    }
   }
   double least_misfit = INFINITY, least_error = INFINITY;
   for (const RefinerBlend& candidate : candidates) {
