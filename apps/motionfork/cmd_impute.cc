@@ -199,6 +199,9 @@ ADE/FDE from clean, mean-imputed and imputed histories.)");
   cmd->add_option("--forecast-occlusion", o->eval.forecast_occlusions,
                   "Only this forecasting row, repeatable (e.g. 'random 50%'; default: all)");
   cmd->add_option("--seed", o->eval.seed, "Seed of masks and samples (default 0)")->check(Seed);
+  cmd->add_option("--slow", o->eval.slow,
+                  "Play the test clips this many times slower first (default 1)")
+      ->check(PositiveNumber);
   cmd->add_flag("--likelihood-only", o->eval.likelihood_only, "Only the likelihood figures");
   AddThreadsOption(cmd, &o->threads);
   AddImputeOverrides(cmd, &o->flags);

@@ -83,8 +83,8 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
 // the first >= 0), refiner_keep_bones: a bool (absent: false), refiner_adapt_values: a finite
 // number >= 0 or kRefinerGapLengths of them (absent: 0); only with a refiner.
 void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
-  for (const char* key :
-       {"refiner_weights", "refiner_local_weights", "refiner_keep_bones", "refiner_adapt_values"}) {
+  for (const char* key : {"refiner_weights", "refiner_local_weights", "refiner_keep_bones",
+                          "refiner_adapt_values", "refiner_smooth"}) {
     if (root[key] && !m->refiner.enabled())
       Fail(file, root[key], std::string(key) + ": expected a refiner, found none");
   }
@@ -116,6 +116,22 @@ void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, Hg
            "refiner_adapt_values: expected a finite number >= 0 or " +
                std::to_string(kRefinerGapLengths) + " of them (one per gap length), found " +
                (v.size() == 1 ? std::to_string(v[0]) : std::to_string(v.size()) + " numbers"));
+    }
+  }
+  if (const YAML::Node n = root["refiner_smooth"]) {
+    if (!n.IsMap()) Fail(file, n, "refiner_smooth: expected a map {bracketed, one_sided}");
+    for (const auto& kv : n) {
+      const std::string key = kv.first.as<std::string>();
+      if (key != "bracketed" && key != "one_sided")
+        Fail(file, kv.first,
+             "refiner_smooth: unknown key '" + key + "'; expected bracketed, one_sided");
+    }
+    FillSmoothing& s = m->refiner_smoothing;
+    s.bracketed = n["bracketed"] ? Get<double>(file, n, "bracketed") : 0.0;
+    s.one_sided = n["one_sided"] ? Get<double>(file, n, "one_sided") : 0.0;
+    for (const double x : {s.bracketed, s.one_sided}) {
+      if (!std::isfinite(x) || x < 0)
+        Fail(file, n, "refiner_smooth: expected finite numbers >= 0, found " + std::to_string(x));
     }
   }
 }
@@ -257,6 +273,12 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
         } else if (adapt.size() > 1) {
           out << YAML::Key << "refiner_adapt_values" << YAML::Value << YAML::Flow << adapt;
         }
+        if (m.refiner_smoothing.active()) {
+          out << YAML::Key << "refiner_smooth" << YAML::Value << YAML::Flow << YAML::BeginMap
+              << YAML::Key << "bracketed" << YAML::Value << m.refiner_smoothing.bracketed
+              << YAML::Key << "one_sided" << YAML::Value << m.refiner_smoothing.one_sided
+              << YAML::EndMap;
+        }
       });
 }
 
@@ -276,6 +298,7 @@ std::string HgvaeSignature(const HgvaeManifest& m) {
   s.refiner_local_weights.clear();
   s.refiner_keep_bones = false;
   s.refiner_adapt_values.clear();
+  s.refiner_smoothing = {};
   s.info.clear();
   return FormatHgvaeManifest(s);
 }

@@ -300,10 +300,11 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) co
       im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
   std::vector<float> refined(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());
   const HgvaeManifest& m = im.manifest;
-  const ImputationBlend blend{
-      m.refiner_weights, m.refiner_local_weights, m.refiner_keep_bones, {}, m.refiner_adapt_values};
-  if (!calibrated ||
-      (blend.refiner.empty() && blend.local.empty() && !blend.keep_bones && !AdaptsToMotion(blend)))
+  const ImputationBlend blend{m.refiner_weights,      m.refiner_local_weights,
+                              m.refiner_keep_bones,   {},
+                              m.refiner_adapt_values, m.refiner_smoothing};
+  if (!calibrated || (blend.refiner.empty() && blend.local.empty() && !blend.keep_bones &&
+                      !AdaptsToMotion(blend) && !blend.smoothing.active()))
     return refined;
   const RawRefiner raw = [this](const RefinerFills& probe) { return Refine(probe, false); };
   return BlendRefinerFills(skeleton(), f, refined, AdaptToMotion(skeleton(), f, raw, blend));

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "imputation/fill_smoothing.h"
 #include "refine/refiner_options.h"
 
 namespace motionfork {
@@ -150,6 +151,8 @@ struct HgvaeManifest {
   // towards them as if by this many values (refiner_adaptation.h); 0: used as they are. One value
   // for every bucket or one per gap length class (ImputationBlend::adapt_values); empty: none.
   std::vector<double> refiner_adapt_values;
+  // The filled values pulled towards a smooth path last (fill_smoothing.h); zeros: not at all.
+  FillSmoothing refiner_smoothing;
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

@@ -132,7 +132,7 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
     if (f.mask[i])
       out[i] = f.spline[i] + a[i] * (refined[i] - f.spline[i]) + b[i] * (f.local[i] - f.spline[i]);
   }
-  if (!blend.keep_bones) return out;
+  if (!blend.keep_bones) return SmoothFilledValues(out, f.mask, f.coords, blend.smoothing);
   // The root at the origin, observed in every frame.
   const size_t F = N + 3;
   std::vector<float> positions(T * F, 0.0f);
@@ -150,7 +150,7 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
       out[i] += share[i] * (kept[t * F + 3 + v] - out[i]);
     }
   }
-  return out;
+  return SmoothFilledValues(out, f.mask, f.coords, blend.smoothing);
 }
 
 double AdaptValues(const ImputationBlend& blend, int bucket) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/skeleton.h"
+#include "imputation/fill_smoothing.h"
 
 namespace motionfork {
 
@@ -67,6 +68,8 @@ struct ImputationBlend {
   // towards the weights above as if by this many values; 0: used as they are. One value for every
   // bucket, or one per gap length class [kRefinerGapLengths]; empty: 0.
   std::vector<double> adapt_values;
+  // Last, the filled values pulled towards a smooth path in time (fill_smoothing.h).
+  FillSmoothing smoothing;
 };
 // blend.adapt_values for bucket k (throws std::invalid_argument on another number of values).
 double AdaptValues(const ImputationBlend& blend, int bucket);

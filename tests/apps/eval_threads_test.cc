@@ -133,6 +133,25 @@ TEST_CASE("hgvae eval and dvae eval with 1 and 2 threads write identical figures
                    dir.file("split.tsv") + " --windows 10 --forecast-occlusion 'random 50%'");
     CHECK(no_forecaster.status == 2);
     CHECK_THAT(no_forecaster.output, Catch::Contains("no forecaster was given"));
+    // The test clips played twice as slow: twice the frames, so twice the windows of the split
+    // (counted by the likelihood alone); the forecasting rows run on them too.
+    auto windows = [&](const std::string& slow, const std::string& file) {
+      const nlohmann::json j = FiguresOf(
+          "-q hgvae eval --model " + models + "/hgvae --windows 100000 --likelihood-only" + slow +
+              " --data " + data + " --split " + dir.file("split.tsv"),
+          dir, file);
+      CHECK(j.contains("slow") == !slow.empty());
+      return j["windows"].get<int>();
+    };
+    const int w2 = windows(" --slow 2", "slow.json"), w1 = windows("", "normal.json");
+    CHECK(w2 >= 2 * w1 - 10);
+    CHECK(w2 <= 2 * w1 + 10);
+    const nlohmann::json slow = FiguresOf(
+        "-q hgvae eval --model " + models +
+            "/hgvae --windows 10 --gap-clips 0 --slow 2 --forecast-occlusion 'random 50%'" + common,
+        dir, "slow_forecast.json");
+    CHECK(slow["slow"].get<double>() == 2);
+    CHECK(slow["forecasting"]["settings"][0]["fde_refiner"].get<double>() > 0);
   }
   SECTION("dvae eval: regression and optimisation modes, forecasting") {
     CheckSameFigures(

@@ -5,6 +5,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
+#include <iterator>
+#include <tuple>
+#include <utility>
 
 #include "bundle/hgvae_bundle.h"
 #include "imputation/interpolation_fill.h"
@@ -263,11 +266,56 @@ TEST_CASE(
   CHECK(cm.refiner_keep_bones == c.blend.keep_bones);
   CHECK(cm.refiner_adapt_values == c.blend.adapt_values);
   CHECK(RefinerCalibrationText(c, "OUT").find("gap 1, slow, sparse") != std::string::npos);
+  // The last stage: every lambda scored on the whole clips and on the histories, each the lowest
+  // (0, no smoothing, among them), written to the bundle.
+  REQUIRE(c.smoothing.bracketed.size() == std::size(kSmoothingLambdas));
+  REQUIRE(c.smoothing.one_sided.size() == std::size(kSmoothingLambdas));
+  CHECK(c.smoothing.histories > 0);
+  for (const auto& [lambda, score] : c.smoothing.bracketed) {
+    REQUIRE(std::isfinite(score));
+    if (lambda == c.smoothing.chosen.bracketed) CHECK(score <= c.smoothing.bracketed[0].second);
+  }
+  for (const auto& [lambda, score] : c.smoothing.one_sided) CHECK(std::isfinite(score));
+  for (const auto* scores : {&c.smoothing.bracketed, &c.smoothing.one_sided}) {
+    double lowest = INFINITY, at = -1;
+    for (const auto& [lambda, score] : *scores)
+      if (score < lowest) std::tie(lowest, at) = std::make_pair(score, lambda);
+    CHECK(at == (scores == &c.smoothing.bracketed ? c.smoothing.chosen.bracketed
+                                                  : c.smoothing.chosen.one_sided));
+  }
+  CHECK(c.blend.smoothing.bracketed == c.smoothing.chosen.bracketed);
+  CHECK(c.blend.smoothing.one_sided == c.smoothing.chosen.one_sided);
+  CHECK(cm.refiner_smoothing.bracketed == c.smoothing.chosen.bracketed);
+  CHECK(cm.refiner_smoothing.one_sided == c.smoothing.chosen.one_sided);
+  CHECK(RefinerCalibrationText(c, "OUT").find("smooth the filled values: bracketed") !=
+        std::string::npos);
+  // The smoothing keys round-trip and are refused when negative or unknown.
+  {
+    HgvaeManifest s = cm;
+    s.refiner_smoothing = {2.5, 30};
+    std::ofstream(dir.file("smooth.yaml")) << FormatHgvaeManifest(s);
+    const HgvaeManifest back = LoadHgvaeManifest(dir.file("smooth.yaml"));
+    CHECK(back.refiner_smoothing.bracketed == 2.5);
+    CHECK(back.refiner_smoothing.one_sided == 30);
+    const std::string text = FormatHgvaeManifest(s);
+    auto refused = [&](const std::string& value, const std::string& why) {
+      std::string edited = text;
+      const size_t at = edited.find("refiner_smooth: {");
+      REQUIRE(at != std::string::npos);
+      edited.replace(at, edited.find('}', at) + 1 - at, "refiner_smooth: " + value);
+      std::ofstream(dir.file("edited.yaml")) << edited;
+      CHECK_THROWS_WITH(LoadHgvaeManifest(dir.file("edited.yaml")), Catch::Contains(why));
+    };
+    refused("{bracketed: -1, one_sided: 3}", "refiner_smooth: expected finite numbers >= 0");
+    refused("{bracket: 1}", "refiner_smooth: unknown key 'bracket'");
+    refused("3", "refiner_smooth: expected a map");
+  }
   // Weights 0 keep the spline exactly; the uncalibrated refiner ignores them.
   cm.refiner_weights.assign(kRefinerGapBuckets, 0.0);
   cm.refiner_local_weights.assign(kRefinerGapBuckets, 0.0);
   cm.refiner_keep_bones = false;
   cm.refiner_adapt_values.clear();
+  cm.refiner_smoothing = {};
   const HgvaeModel zero = HgvaeModel::FromNet(cm, net);
   const std::vector<uint8_t> mask = GapMask({"arm gap", 0, {11, 12, 13}, 12}, 50, 17, 5);
   const RefinerFills f =

@@ -229,7 +229,7 @@ TEST_CASE("bundle fuzzer: mutated generator, HG-VAE and Motion-DVAE bundles neve
   // The imputation defaults and the refiner's adaptation are settings (HgvaeSignature).
   Fuzz(dir / "hgvae", "hgvae.yaml", "hgvae.pt", 60,
        [&] { return Imputer::Load((dir / "hgvae").string()).Impute(gappy).positions; },
-       {"steps", "lr", "objective", "refiner_adapt_values"});
+       {"steps", "lr", "objective", "refiner_adapt_values", "refiner_smooth"});
   fs::copy(kShipped / "dvae", dir / "dvae");
   Fuzz(dir / "dvae", "dvae.yaml", "dvae.pt", 60,
        [&] { return Denoiser::Load((dir / "dvae").string()).Denoise(history); });

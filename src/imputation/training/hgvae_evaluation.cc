@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "core/resample.h"
 #include "imputation/gap_imputation.h"
 #include "imputation/occlusion.h"
 
@@ -152,6 +153,16 @@ ForecastingFigures Forecasting(const HgvaeModel& model, const Dataset& ds,
   return f;
 }
 
+// The dataset with its test clips played `factor` times slower (the others as they are).
+Dataset SlowedTestClips(const Dataset& ds, double factor) {
+  Dataset out = ds;
+  for (int c : ds.ClipIndices(Split::kTest)) {
+    Motion& m = out.clips[c].motion;
+    m = Motion(m.skeleton_ptr(), m.fps(), SlowDown(m.positions(), m.num_joints(), factor));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<float> HgvaeTestWindows(const Dataset& ds, int window, int limit) {
@@ -178,13 +189,17 @@ std::vector<float> HgvaeTestWindows(const Dataset& ds, int window, int limit) {
   return out;
 }
 
-HgvaeEvaluation EvaluateHgvae(const HgvaeModel& model, const Dataset& dataset,
+HgvaeEvaluation EvaluateHgvae(const HgvaeModel& model, const Dataset& given,
                               const HgvaeEvalOptions& o) {
   CheckForecastOcclusions(model, o);
+  if (!(o.slow > 0)) throw std::invalid_argument("slow must be > 0, not " + std::to_string(o.slow));
+  const Dataset slowed = o.slow == 1 ? Dataset{} : SlowedTestClips(given, o.slow);
+  const Dataset& dataset = o.slow == 1 ? given : slowed;
   const std::vector<float> windows = HgvaeTestWindows(dataset, model.window(), o.windows);
   const HgvaeManifest& m = model.manifest();
   HgvaeEvaluation e;
   e.window_frames = model.window();
+  e.slow = o.slow;
   e.windows =
       static_cast<int>(windows.size() / (static_cast<size_t>(e.window_frames) * model.coords()));
   e.stochastic_levels = m.model.stochastic_levels == 0 ? static_cast<int>(m.model.levels.size())

@@ -32,6 +32,9 @@ struct HgvaeEvalOptions {
   // The forecasting rows to run, by occlusion name ("random 50%", "left arm"; StandardOcclusions);
   // empty: all. Each keeps the masks it has in a run of all.
   std::vector<std::string> forecast_occlusions;
+  // Test clips played this many times slower first (core/resample.h SlowDown; 1: as they are):
+  // every figure, the forecasting ones too, on slower motion than the models were trained on.
+  double slow = 1;
   StageProgress progress;  // "imputation", "gaps", "forecasting"
 };
 
@@ -53,6 +56,7 @@ struct HgvaeEvaluation {
   int windows = 0;  // test windows used
   int window_frames = 0;
   int stochastic_levels = 0;
+  double slow = 1;  // HgvaeEvalOptions::slow
   HgvaeLikelihood likelihood;
   bool likelihood_only = false;  // the rest is empty
   std::vector<ImputationFigure> imputation;

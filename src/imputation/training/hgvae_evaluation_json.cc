@@ -62,6 +62,7 @@ json HgvaeEvaluationJson(const HgvaeEvaluation& e, const HgvaeModel& model,
             {"parameters", model.num_parameters()},
             {"stochastic_levels", e.stochastic_levels},
             {"likelihood", json(nlohmann::json(e.likelihood))}};
+  if (e.slow != 1) j["slow"] = e.slow;
   if (!e.likelihood_only) {
     j["imputation"] = ImputationJson(e, impute);
     if (!e.gaps.empty()) j["gaps"] = GapsJson(e);

@@ -79,6 +79,7 @@ std::string HgvaeEvaluationText(const HgvaeEvaluation& e, const HgvaeModel& mode
       "%d frames\n",
       model_path.c_str(), WithThousands(model.num_parameters()).c_str(), m.model.levels.size(),
       e.stochastic_levels, m.protocol.c_str(), e.windows, e.window_frames);
+  if (e.slow != 1) StringAppendf(&s, "test clips played %g times slower\n", e.slow);
   AppendLikelihood(&s, e.likelihood);
   if (!e.likelihood_only) {
     AppendImputation(&s, e, impute);

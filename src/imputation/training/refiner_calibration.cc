@@ -201,6 +201,8 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
   if (out.settings.empty())
     throw std::invalid_argument("calibrate: no clip is long enough for any gap setting");
   out.blend.keep_bones = kept_sum < adapted_sum;
+  out.smoothing = CalibrateSmoothing(model, out.blend, clips, seed + 13, progress);
+  out.blend.smoothing = out.smoothing.chosen;
   return out;
 }
 
@@ -219,6 +221,7 @@ RefinerCalibration CalibrateHgvaeBundle(const std::string& model_dir,
   m.refiner_local_weights = c.blend.local;
   m.refiner_keep_bones = c.blend.keep_bones;
   m.refiner_adapt_values = c.blend.adapt_values;
+  m.refiner_smoothing = c.blend.smoothing;
   SetManifestInfo(&m.info, "refiner_calibration",
                   std::to_string(c.clips) + " held-out clips, seed " + std::to_string(seed));
   SaveHgvaeBundle(out_dir, m, net);
@@ -245,6 +248,15 @@ std::string RefinerCalibrationText(const RefinerCalibration& c, const std::strin
       &text, "adapt to each motion: %s\n",
       AdaptsToMotion(c.blend) ? ("yes, priors worth" + priors + " values").c_str() : "no");
   StringAppendf(&text, "keep bone lengths: %s\n", c.blend.keep_bones ? "yes" : "no");
+  text += "smoothing the filled values, bracketed (whole clips; summed squares / spline's):";
+  for (const auto& [lambda, score] : c.smoothing.bracketed)
+    StringAppendf(&text, " %g %.3f", lambda, score);
+  StringAppendf(&text, "\n  observed on one side only (%d histories of the window per share):",
+                c.smoothing.histories);
+  for (const auto& [lambda, score] : c.smoothing.one_sided)
+    StringAppendf(&text, " %g %.3f", lambda, score);
+  StringAppendf(&text, "\nsmooth the filled values: bracketed %g, one-sided %g (0: not)\n",
+                c.smoothing.chosen.bracketed, c.smoothing.chosen.one_sided);
   StringAppendf(&text, "\nRMS of the missing values (cm)\n%-28s %10s %8s %8s %10s %8s %8s\n",
                 "setting", "values", "spline", "refiner", "calibrated", "adapted", "bones");
   for (const RefinerCalibration::Setting& s : c.settings) {

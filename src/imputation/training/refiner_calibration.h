@@ -17,6 +17,7 @@
 #include "core/progress.h"
 #include "imputation/hgvae_model.h"
 #include "imputation/refiner_fills.h"
+#include "imputation/training/smoothing_calibration.h"
 
 namespace motionfork {
 
@@ -39,6 +40,7 @@ struct RefinerCalibration {
   // and the sum they make together.
   std::vector<double> length_priors;
   double length_score = 0;
+  SmoothingCalibration smoothing;  // the last stage (blend.smoothing), chosen after the bones
   int clips = 0;
 };
 

@@ -1,0 +1,136 @@
+#include "imputation/training/smoothing_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <iterator>
+
+#include "core/parallel_for.h"
+#include "imputation/gap_imputation.h"
+#include "imputation/motion_imputation.h"
+#include "imputation/occlusion.h"
+#include "imputation/refiner_adaptation.h"
+
+namespace motionfork {
+namespace {
+
+// One filled motion: its clean values, the fills, the calibrated fill before smoothing, and the
+// setting it counts towards.
+struct Filled {
+  size_t setting = 0;
+  std::vector<float> clean;
+  RefinerFills fills;
+  std::vector<float> blended;
+};
+
+// Per lambda on the grid, the sum over settings of smoothed squares / spline squares, with
+// smoothing_of(lambda) as the stage.
+std::vector<std::pair<double, double>> Scores(
+    const std::vector<Filled>& items, size_t settings,
+    const std::function<FillSmoothing(double)>& smoothing_of) {
+  std::vector<double> spline(settings, 0.0);
+  for (const Filled& it : items)
+    for (size_t i = 0; i < it.clean.size(); ++i)
+      if (it.fills.mask[i])
+        spline[it.setting] += std::pow(double(it.fills.spline[i]) - it.clean[i], 2);
+  std::vector<std::pair<double, double>> out;
+  for (const double lambda : kSmoothingLambdas) {
+    std::vector<double> squares(settings, 0.0);
+    for (const Filled& it : items) {
+      const std::vector<float> s =
+          SmoothFilledValues(it.blended, it.fills.mask, it.fills.coords, smoothing_of(lambda));
+      for (size_t i = 0; i < s.size(); ++i)
+        if (it.fills.mask[i]) squares[it.setting] += std::pow(double(s[i]) - it.clean[i], 2);
+    }
+    double total = 0;
+    for (size_t k = 0; k < settings; ++k)
+      if (spline[k] > 0) total += squares[k] / spline[k];
+    out.push_back({lambda, total});
+  }
+  return out;
+}
+
+double Lowest(const std::vector<std::pair<double, double>>& scores) {
+  return std::min_element(scores.begin(), scores.end(),
+                          [](const auto& a, const auto& b) { return a.second < b.second; })
+      ->first;
+}
+
+}  // namespace
+
+SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const ImputationBlend& blend,
+                                        const std::vector<std::vector<float>>& clips, uint64_t seed,
+                                        const StageProgress& progress) {
+  const Skeleton& skeleton = model.skeleton();
+  const int J = skeleton.num_joints(), N = 3 * (J - 1), W = model.window();
+  const std::vector<float> fallback = TrainingMeanPose(model);
+  const RawRefiner raw = [&model](const RefinerFills& f) { return model.Refine(f, false); };
+  ImputationBlend plain = blend;
+  plain.smoothing = {};
+  auto fill = [&](size_t setting, std::vector<float> clean, const std::vector<uint8_t>& mask) {
+    const int T = static_cast<int>(clean.size() / N);
+    std::vector<float> positions(static_cast<size_t>(T) * J * 3, 0.0f);  // root at the origin
+    std::vector<uint8_t> missing(positions.size(), 0);
+    for (int t = 0; t < T; ++t)
+      for (int v = 0; v < N; ++v) {
+        positions[(static_cast<size_t>(t) * J + 1) * 3 + v] = clean[static_cast<size_t>(t) * N + v];
+        missing[(static_cast<size_t>(t) * J + 1) * 3 + v] = mask[static_cast<size_t>(t) * N + v];
+      }
+    Filled it{
+        setting, std::move(clean), MakeRefinerFills(skeleton, positions, missing, fallback), {}};
+    const std::vector<float> refined = raw(it.fills);
+    it.blended = BlendRefinerFills(skeleton, it.fills, refined,
+                                   AdaptToMotion(skeleton, it.fills, raw, plain));
+    return it;
+  };
+  // Whole clips under every gap setting (masks as CalibrateRefiner draws them).
+  const std::vector<GapSetting> settings = StandardGapSettings(skeleton, model.manifest().fps);
+  std::vector<Filled> whole, histories;
+  const size_t windows_per_clip = 8;
+  size_t done = 0;
+  const size_t total = 2 * clips.size();
+  for (size_t c = 0; c < clips.size(); ++c) {
+    const int T = static_cast<int>(clips[c].size() / N);
+    for (size_t s = 0; s < settings.size(); ++s) {
+      const std::vector<uint8_t> joint_mask =
+          GapMask(settings[s], T, J, ItemSeed(seed, static_cast<int>(s * 100003 + c)));
+      if (std::count(joint_mask.begin(), joint_mask.end(), 1) == 0) continue;
+      std::vector<uint8_t> mask(static_cast<size_t>(T) * N);
+      for (int t = 0; t < T; ++t)
+        for (int v = 0; v < N; ++v)
+          mask[static_cast<size_t>(t) * N + v] =
+              joint_mask[(static_cast<size_t>(t) * J + 1) * 3 + v];
+      whole.push_back(fill(s, clips[c], mask));
+    }
+    ReportProgress(progress, "smoothing on held-out clips", double(++done) / total);
+  }
+  // Histories of W frames, up to windows_per_clip spread over each clip, random shares missing.
+  SmoothingCalibration out;
+  for (size_t c = 0; c < clips.size(); ++c) {
+    const int T = static_cast<int>(clips[c].size() / N), count = T / W;
+    const int used = std::min<int>(count, windows_per_clip);
+    for (int w = 0; w < used; ++w) {
+      const size_t start = static_cast<size_t>(w * count / used) * W * N;
+      const std::vector<float> clean(clips[c].begin() + start,
+                                     clips[c].begin() + start + static_cast<size_t>(W) * N);
+      for (size_t s = 0; s < std::size(kSmoothingShares); ++s) {
+        const std::vector<uint8_t> mask =
+            RandomOcclusion(1, W * N, kSmoothingShares[s],
+                            ItemSeed(seed + 7, static_cast<int>(c * 1009 + w * 7 + s)));
+        histories.push_back(fill(s, clean, mask));
+      }
+    }
+    out.histories += used;
+    ReportProgress(progress, "smoothing on held-out clips", double(++done) / total);
+  }
+  out.bracketed = Scores(whole, settings.size(), [](double l) { return FillSmoothing{l, 0}; });
+  out.chosen.bracketed = Lowest(out.bracketed);
+  const double b = out.chosen.bracketed;
+  out.one_sided = Scores(histories, std::size(kSmoothingShares), [b](double l) {
+    return FillSmoothing{b, l};
+  });
+  out.chosen.one_sided = Lowest(out.one_sided);
+  return out;
+}
+
+}  // namespace motionfork
