@@ -63,25 +63,19 @@ std::vector<float> SmoothFilledValues(const std::vector<float>& values,
   if (!s.active() || T < 3) return out;
   std::vector<double> lambda(T);
   for (size_t v = 0; v < N; ++v) {
-    // Each value's lambda: by whether an observed frame lies before and after it.
-    bool any_free = false;
-    size_t last_seen = T;  // none yet
-    for (size_t t = 0; t < T; ++t) {
-      if (!mask[t * N + v]) last_seen = t;
-      lambda[t] = last_seen < T ? 1.0 : 0.0;  // observed before (1) or not (0), for now
-    }
-    bool seen_after = false;
+    // Each value's lambda: by whether an observed frame lies before and after it (0: held).
+    std::vector<uint8_t> seen_before(T, 0);
+    for (size_t t = 1; t < T; ++t) seen_before[t] = seen_before[t - 1] || !mask[(t - 1) * N + v];
+    bool any_free = false, seen_after = false;
     for (size_t t = T; t-- > 0;) {
-      const bool missing = mask[t * N + v] != 0;
-      if (!missing) {
-        seen_after = true;
+      if (!mask[t * N + v]) {
         lambda[t] = 0;
+        seen_after = true;
         continue;
       }
-      const bool seen_before = lambda[t] > 0;
-      lambda[t] = seen_before && seen_after   ? s.bracketed
-                  : seen_before || seen_after ? s.one_sided
-                                              : 0.0;
+      lambda[t] = seen_before[t] && seen_after   ? s.bracketed
+                  : seen_before[t] || seen_after ? s.one_sided
+                                                 : 0.0;
       any_free = any_free || lambda[t] > 0;
     }
     if (!any_free) continue;

@@ -133,15 +133,9 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
       out[i] = f.spline[i] + a[i] * (refined[i] - f.spline[i]) + b[i] * (f.local[i] - f.spline[i]);
   }
   if (!blend.keep_bones) return SmoothFilledValues(out, f.mask, f.coords, blend.smoothing);
-  // The root at the origin, observed in every frame.
   const size_t F = N + 3;
-  std::vector<float> positions(T * F, 0.0f);
-  std::vector<uint8_t> missing(T * F, 0);
-  for (size_t t = 0; t < T; ++t) {
-    std::copy(out.begin() + t * N, out.begin() + (t + 1) * N, positions.begin() + t * F + 3);
-    std::copy(f.mask.begin() + t * N, f.mask.begin() + (t + 1) * N, missing.begin() + t * F + 3);
-  }
-  const std::vector<float> kept = KeepBoneLengths(skeleton, positions, missing);
+  const std::vector<float> kept = KeepBoneLengths(skeleton, WithRootAtOrigin(out.data(), T, N),
+                                                  WithRootAtOrigin(f.mask.data(), T, N));
   const std::vector<float> share = blend.bones.empty() ? std::vector<float>(out.size(), 1.0f)
                                                        : RefinerValueWeights(f, blend.bones);
   for (size_t t = 0; t < T; ++t) {

@@ -7,6 +7,8 @@
 // one after the other (AppendRefinerFills).
 #pragma once
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -80,6 +82,16 @@ bool AdaptsToMotion(const ImputationBlend& blend);
 std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFills& f,
                                      const std::vector<float>& refined,
                                      const ImputationBlend& blend);
+
+// Root-relative rows without the root [T, N] (poses, or their mask) as [T, N + 3] rows whose first
+// three values, the root's, are 0: positions with the root at the origin (observed, for a mask).
+template <typename V>
+std::vector<V> WithRootAtOrigin(const V* rows, size_t frames, size_t coords) {
+  std::vector<V> out(frames * (coords + 3), V{0});
+  for (size_t t = 0; t < frames; ++t)
+    std::copy(rows + t * coords, rows + (t + 1) * coords, out.begin() + t * (coords + 3) + 3);
+  return out;
+}
 
 // Appends `f`'s window to `all` (the same number of frames in each).
 void AppendRefinerFills(const RefinerFills& f, RefinerFills* all);

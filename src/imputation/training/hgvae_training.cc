@@ -321,12 +321,7 @@ void AddRefinerExample(const Skeleton& skeleton, const std::vector<float>& fallb
                        const float* poses, int W, const std::vector<uint8_t>& mask,
                        RefinerBatch* b) {
   const int J = skeleton.num_joints(), N = 3 * (J - 1);
-  std::vector<float> positions(static_cast<size_t>(W) * J * 3, 0.0f);  // the root at the origin
-  for (int t = 0; t < W; ++t) {
-    std::copy(poses + static_cast<size_t>(t) * N, poses + static_cast<size_t>(t + 1) * N,
-              positions.begin() + static_cast<size_t>(t) * J * 3 + 3);
-  }
-  const RefinerFills f = MakeRefinerFills(skeleton, positions, mask, fallback);
+  const RefinerFills f = MakeRefinerFills(skeleton, WithRootAtOrigin(poses, W, N), mask, fallback);
   b->clean.insert(b->clean.end(), poses, poses + static_cast<size_t>(W) * N);
   AppendRefinerFills(f, &b->fills);
   ++b->count;

@@ -81,12 +81,7 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
     for (size_t c = 0; c < clips.size(); ++c) {
       const std::vector<float>& clean = clips[c];
       const int T = static_cast<int>(clean.size() / N);
-      std::vector<float> positions(static_cast<size_t>(T) * J * 3, 0.0f);  // root at the origin
-      for (int t = 0; t < T; ++t) {
-        std::copy(clean.begin() + static_cast<size_t>(t) * N,
-                  clean.begin() + static_cast<size_t>(t + 1) * N,
-                  positions.begin() + static_cast<size_t>(t) * J * 3 + 3);
-      }
+      const std::vector<float> positions = WithRootAtOrigin(clean.data(), T, N);
       for (size_t s = 0; s < settings.size(); ++s) {
         const std::vector<uint8_t> mask =
             GapMask(settings[s], T, J, ItemSeed(seed, static_cast<int>(s * 100003 + c)));

@@ -67,17 +67,12 @@ SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const Imputatio
   const RawRefiner raw = [&model](const RefinerFills& f) { return model.Refine(f, false); };
   ImputationBlend plain = blend;
   plain.smoothing = {};
-  auto fill = [&](size_t setting, std::vector<float> clean, const std::vector<uint8_t>& mask) {
-    const int T = static_cast<int>(clean.size() / N);
-    std::vector<float> positions(static_cast<size_t>(T) * J * 3, 0.0f);  // root at the origin
-    std::vector<uint8_t> missing(positions.size(), 0);
-    for (int t = 0; t < T; ++t)
-      for (int v = 0; v < N; ++v) {
-        positions[(static_cast<size_t>(t) * J + 1) * 3 + v] = clean[static_cast<size_t>(t) * N + v];
-        missing[(static_cast<size_t>(t) * J + 1) * 3 + v] = mask[static_cast<size_t>(t) * N + v];
-      }
-    Filled it{
-        setting, std::move(clean), MakeRefinerFills(skeleton, positions, missing, fallback), {}};
+  // clean: [T, N]; missing: [T, J, 3] (the root observed).
+  auto fill = [&](size_t setting, std::vector<float> clean, const std::vector<uint8_t>& missing) {
+    const size_t T = clean.size() / N;
+    Filled it{setting, std::move(clean), {}, {}};
+    it.fills =
+        MakeRefinerFills(skeleton, WithRootAtOrigin(it.clean.data(), T, N), missing, fallback);
     const std::vector<float> refined = raw(it.fills);
     it.blended = BlendRefinerFills(skeleton, it.fills, refined,
                                    AdaptToMotion(skeleton, it.fills, raw, plain));
@@ -92,14 +87,9 @@ SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const Imputatio
   for (size_t c = 0; c < clips.size(); ++c) {
     const int T = static_cast<int>(clips[c].size() / N);
     for (size_t s = 0; s < settings.size(); ++s) {
-      const std::vector<uint8_t> joint_mask =
+      const std::vector<uint8_t> mask =
           GapMask(settings[s], T, J, ItemSeed(seed, static_cast<int>(s * 100003 + c)));
-      if (std::count(joint_mask.begin(), joint_mask.end(), 1) == 0) continue;
-      std::vector<uint8_t> mask(static_cast<size_t>(T) * N);
-      for (int t = 0; t < T; ++t)
-        for (int v = 0; v < N; ++v)
-          mask[static_cast<size_t>(t) * N + v] =
-              joint_mask[(static_cast<size_t>(t) * J + 1) * 3 + v];
+      if (std::count(mask.begin(), mask.end(), 1) == 0) continue;
       whole.push_back(fill(s, clips[c], mask));
     }
     ReportProgress(progress, "smoothing on held-out clips", double(++done) / total);
@@ -117,7 +107,7 @@ SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const Imputatio
         const std::vector<uint8_t> mask =
             RandomOcclusion(1, W * N, kSmoothingShares[s],
                             ItemSeed(seed + 7, static_cast<int>(c * 1009 + w * 7 + s)));
-        histories.push_back(fill(s, clean, mask));
+        histories.push_back(fill(s, clean, WithRootAtOrigin(mask.data(), W, N)));
       }
     }
     out.histories += used;
