@@ -108,6 +108,12 @@ void CheckTrainConfig(const GeneratorTrainConfig& c) {
              r->skating_weight >= 0,
          "trajectory.learning_rate and contact_height must be > 0, the weights >= 0");
   }
+  const AugmentationOptions& a = c.augmentation;
+  rule(a.mirror >= 0 && a.mirror <= 1, "augmentation.mirror must be a share in 0..1");
+  rule(a.scale >= 1 && a.scale <= 2, "augmentation.scale must be in 1..2 (1: off)");
+  rule(a.speed >= 1 && a.speed <= 4, "augmentation.speed must be in 1..4 (1: off)");
+  rule(a.history_noise >= 0 && a.history_noise <= 1,
+       "augmentation.history_noise must be in 0..1 metres (0: off)");
   rule(t.window_stride >= 1, "training.window_stride must be >= 1");
   rule(t.prior_frame_step >= 1, "training.prior_frame_step must be >= 1");
   rule(t.threads >= 1, "training.threads must be >= 1");
@@ -174,6 +180,13 @@ GeneratorTrainConfig LoadGeneratorTrainConfig(const std::string& path) {
           Fail(path, n["precision"], std::string("training.") + e.what());
         }
       }
+    }
+    if (const YAML::Node n = root["augmentation"]) {
+      AugmentationOptions& a = c.augmentation;
+      a.mirror = GetOr<double>(path, n, "mirror", a.mirror);
+      a.scale = GetOr<double>(path, n, "scale", a.scale);
+      a.speed = GetOr<double>(path, n, "speed", a.speed);
+      a.history_noise = GetOr<double>(path, n, "history_noise", a.history_noise);
     }
     if (const YAML::Node n = root["trajectory"]) {
       TrajectoryTrainOptions o;

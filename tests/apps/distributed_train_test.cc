@@ -210,6 +210,17 @@ TEST_CASE("with synchronised batch norm two workers end with one worker's weight
   CHECK(per_worker > 100 * synced);
 }
 
+TEST_CASE("with every augmentation two workers still end with one worker's weights") {
+  Fixture f;
+  // Every worker draws the whole step's variations (mirror, size, speed) and each window's history
+  // noise comes from its place in the step: the shares are the rows of one worker's batch.
+  std::string varied = TinyConfig(false, 1, 20);
+  varied += "augmentation:\n  mirror: 0.5\n  scale: 1.1\n  speed: 1.3\n  history_noise: 0.01\n";
+  const double largest = LargestWeightDifference(f, f.Config("varied.yaml", varied));
+  CHECK(largest < 1e-5);
+  CHECK(largest > 0);
+}
+
 TEST_CASE("with batch norm, two workers' loss curve stays within one worker's seed spread") {
   Fixture f;
   std::vector<std::vector<double>> seeds;

@@ -99,3 +99,35 @@ TEST_CASE("a config's training.precision parses; anything else is refused naming
                     Catch::Contains("walker.yaml") && Catch::Contains("training.precision") &&
                         Catch::Contains("expected fp32, bf16 or auto, got 'fp16'"));
 }
+
+TEST_CASE("a config's augmentation section parses, is off by default, and bad values are refused") {
+  testing::TempDir dir;
+  const auto path = (dir.path() / "walker.yaml").string();
+  const std::string head = "name: walker\nprotocol: bandai\ngenerator:\n  n_pre: 8\n";
+  CHECK_FALSE(Shipped("bandai").augmentation.enabled());  // the shipped recipe trains unvaried
+  std::ofstream(path) << head
+                      << "augmentation:\n  mirror: 0.5\n  scale: 1.1\n  speed: 1.25\n"
+                         "  history_noise: 0.01\n";
+  const AugmentationOptions a = LoadGeneratorTrainConfig(path).augmentation;
+  CHECK(a.enabled());
+  CHECK(a.mirror == 0.5);
+  CHECK(a.scale == 1.1);
+  CHECK(a.speed == 1.25);
+  CHECK(a.history_noise == 0.01);
+  std::ofstream(path) << head << "augmentation:\n  speed: 1.5\n";
+  const AugmentationOptions only_speed = LoadGeneratorTrainConfig(path).augmentation;
+  CHECK(only_speed.enabled());
+  CHECK(only_speed.mirror == 0);  // the others stay off
+  CHECK(only_speed.scale == 1);
+  for (const auto& [line, message] : std::vector<std::pair<std::string, std::string>>{
+           {"mirror: 1.5", "augmentation.mirror must be a share in 0..1"},
+           {"mirror: .nan", "augmentation.mirror"},
+           {"scale: 0.9", "augmentation.scale must be in 1..2"},
+           {"speed: 0.5", "augmentation.speed must be in 1..4"},
+           {"history_noise: -0.01", "augmentation.history_noise must be in 0..1 metres"}}) {
+    std::ofstream(path) << head << "augmentation:\n  " << line << "\n";
+    INFO(line);
+    CHECK_THROWS_WITH(LoadGeneratorTrainConfig(path),
+                      Catch::Contains("walker.yaml") && Catch::Contains(message));
+  }
+}

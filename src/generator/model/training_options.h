@@ -34,6 +34,26 @@ struct MultimodalOptions {
   bool body_frame = false;
 };
 
+// Training windows varied at random (config section `augmentation`; issue 28: forecasts that
+// generalise to styles never seen). Every key is off by default: a config without the section
+// trains as before, draw for draw. A varied window's pseudo multimodal futures are varied with it.
+struct AugmentationOptions {
+  // Share of windows mirrored: left and right joints exchanged and the axis the windows' hip lines
+  // lie along reflected (generator/training/augmentation.h), so that headings are kept.
+  double mirror = 0;
+  // Body size: each window's poses times a factor drawn log-uniformly in [1 / scale, scale].
+  double scale = 1;
+  // Playback speed: a factor drawn log-uniformly in [1 / speed, speed]; the window's frames are
+  // read that much faster about its last history frame (interpolated; a clip too short for the
+  // drawn factor gets the largest that fits).
+  double speed = 1;
+  // Metres: Gaussian noise (standard deviation) on the history the network reads; the losses see
+  // the clean history (a forecaster that tolerates repaired, e.g. imputed, histories).
+  double history_noise = 0;
+
+  bool enabled() const { return mirror > 0 || scale > 1 || speed > 1 || history_noise > 0; }
+};
+
 struct TrainingOptions {
   std::vector<int64_t> samples_per_part;  // nested samples per part (GSPS: 10, 10)
   int batch_histories = 16;
@@ -91,6 +111,7 @@ struct GeneratorTrainConfig {
   LossWeights losses;
   MultimodalOptions multimodal;
   TrainingOptions training;
+  AugmentationOptions augmentation;
   std::optional<TrajectoryTrainOptions> trajectory;  // needs body_frame
 };
 

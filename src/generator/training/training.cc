@@ -15,6 +15,7 @@
 #include "generator/kernels/precision.h"
 #include "generator/model/fused_ops.h"
 #include "generator/model/latents.h"
+#include "generator/training/augmentation.h"
 #include "launch/worker_place.h"
 #include "torch_util/checkpoint.h"
 #include "torch_util/data_parallel.h"
@@ -107,6 +108,17 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
 
   const int N = data.num_nodes, T = data.num_frames();
   const int M = config.multimodal.max_per_window;
+  const AugmentationOptions& augment = config.augmentation;
+  const MirrorPlan mirror = augment.mirror > 0 ? MakeMirrorPlan(skeleton, data) : MirrorPlan{};
+  if (augment.mirror > 0 && cb.message && workers.writes()) {
+    cb.message("mirroring: left and right exchanged, axis " + std::string(1, "xyz"[mirror.axis]) +
+               " reflected (the training windows' hip lines lie along it)");
+  }
+  // A window (or pseudo window) of `frames` frames as its draw varies it: mirrored, resized.
+  auto vary = [&](const WindowAugmentation& a, int frames, float* poses) {
+    if (a.mirror) MirrorPoses(mirror, frames, poses);
+    if (a.scale != 1) ScalePoses(a.scale, static_cast<size_t>(frames) * N * 3, poses);
+  };
   // This worker's share of every step's histories and the weight of its gradients.
   const Share share = workers.BatchShare(Bh);
   const int Bs = static_cast<int>(share.size());
@@ -139,6 +151,10 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
     std::vector<int> picked(Bh);
     for (int it = 0; it < iterations; ++it) {
       for (int& w : picked) w = pick(rng);
+      const std::vector<WindowAugmentation> drawn =
+          augment.enabled() ? DrawAugmentations(augment, Bh, rng)
+                            : std::vector<WindowAugmentation>(static_cast<size_t>(Bh));
+      const uint64_t noise_seed = augment.history_noise > 0 ? rng() : 0;
       torch::Tensor truth = torch::empty({Bs, T, N, 3});
       torch::Tensor pseudo = torch::zeros({Bs, M, data.t_pred, N, 3});
       torch::Tensor mask = torch::zeros({Bs, M});
@@ -148,14 +164,18 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
       for (int w : picked) pseudo_futures += std::min<int64_t>(M, data.multimodal[w].size());
       for (int b = 0; b < Bs; ++b) {
         const int w = picked[share.begin + b];
+        const WindowAugmentation& a = drawn[share.begin + b];
         float* dst = truth.data_ptr<float>() + static_cast<size_t>(b) * T * N * 3;
         // In the body's frame (Gather turns): the window, and each pseudo window as it was
-        // matched, before its future is retargeted onto this window's last pose.
-        data.Gather(w, dst);
+        // matched, before its future is retargeted onto this window's last pose; each varied as
+        // the window's draw says.
+        data.Gather(w, dst, a.speed);
+        vary(a, T, dst);
         if (data.up) world_turn[b] = -data.turn[w];
         const auto& mm = data.multimodal[w];
         for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
-          data.GatherPseudo(w, m, other.data());
+          data.GatherPseudo(w, m, other.data(), a.speed);
+          vary(a, T, other.data());
           RetargetFuture(
               other.data() + static_cast<size_t>(data.t_his) * N * 3,
               dst + static_cast<size_t>(data.t_his - 1) * N * 3, node_parents, data.t_pred, N,
@@ -168,7 +188,18 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         const int64_t rows = zp.size(0) / Bh;  // latents per history
         zp = zp.slice(0, share.begin * rows, share.end * rows);
       }
-      LossBatch batch{net->ForwardNested(truth.slice(1, 0, data.t_his), z, t.samples_per_part),
+      // The history the network reads: with history_noise, each window's own noise (seeded by
+      // its place in the step, so that no worker draws another's).
+      torch::Tensor history = truth.slice(1, 0, data.t_his);
+      if (augment.history_noise > 0) {
+        history = history.clone();
+        const size_t per = static_cast<size_t>(data.t_his) * N * 3;
+        for (int b = 0; b < Bs; ++b) {
+          std::mt19937_64 noise(noise_seed + static_cast<uint64_t>(share.begin + b));
+          AddNoise(augment.history_noise, per, noise, history.data_ptr<float>() + b * per);
+        }
+      }
+      LossBatch batch{net->ForwardNested(history, z, t.samples_per_part),
                       truth,
                       pseudo,
                       mask,

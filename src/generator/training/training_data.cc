@@ -17,20 +17,44 @@ namespace motionfork {
 
 namespace fs = std::filesystem;
 
-void TrainingWindows::CopyTurned(int v, double angle, float* out) const {
+double TrainingWindows::SpeedThatFits(int w, double speed) const {
+  if (speed <= 1) return speed;  // a slower read stays inside the recorded window
+  const Window& win = windows.at(w);
+  const double last = win.start + t_his - 1;
+  const double frames = static_cast<double>(clip_poses[win.clip].size()) / (num_nodes * 3);
+  if (t_his > 1) speed = std::min(speed, last / (t_his - 1));
+  if (t_pred > 0) speed = std::min(speed, (frames - 1 - last) / t_pred);
+  return std::max(1.0, speed);
+}
+
+void TrainingWindows::CopyTurned(int v, double angle, double speed, float* out) const {
   const Window& win = windows.at(v);
   const size_t frame = static_cast<size_t>(num_nodes) * 3;
-  std::memcpy(out, clip_poses[win.clip].data() + win.start * frame,
-              num_frames() * frame * sizeof(float));
+  const float* clip = clip_poses[win.clip].data();
+  if (speed == 1) {
+    std::memcpy(out, clip + win.start * frame, num_frames() * frame * sizeof(float));
+  } else {
+    const double u = SpeedThatFits(v, speed), last = win.start + t_his - 1;
+    const size_t clip_frames = clip_poses[win.clip].size() / frame;
+    for (int t = 0; t < num_frames(); ++t) {
+      const double at = std::clamp(last + u * (t - (t_his - 1)), 0.0, double(clip_frames - 1));
+      const size_t f0 = static_cast<size_t>(at), f1 = std::min(f0 + 1, clip_frames - 1);
+      const float b = static_cast<float>(at - f0), a = 1.0f - b;
+      for (size_t k = 0; k < frame; ++k)
+        out[t * frame + k] = a * clip[f0 * frame + k] + b * clip[f1 * frame + k];
+    }
+  }
   if (up) RotateAboutUp(out, static_cast<size_t>(num_frames()) * num_nodes, angle, *up);
 }
 
-void TrainingWindows::Gather(int w, float* out) const { CopyTurned(w, up ? turn[w] : 0.0, out); }
+void TrainingWindows::Gather(int w, float* out, double speed) const {
+  CopyTurned(w, up ? turn[w] : 0.0, speed, out);
+}
 
-void TrainingWindows::GatherPseudo(int w, int m, float* out) const {
+void TrainingWindows::GatherPseudo(int w, int m, float* out, double speed) const {
   const int v = multimodal.at(w).at(m);
   const double angle = !up ? 0.0 : multimodal_in_body_frame ? turn[v] : turn[w];
-  CopyTurned(v, angle, out);
+  CopyTurned(v, angle, speed, out);
 }
 
 namespace {

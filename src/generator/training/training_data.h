@@ -37,16 +37,24 @@ struct TrainingWindows {
 
   int num_frames() const { return t_his + t_pred; }
   // Copies window w's frames into out [T, N, 3], turned by turn[w] when in the body's frame.
-  void Gather(int w, float* out) const;
+  // speed != 1 (training augmentation): the frames read `speed` times faster about the window's
+  // last history frame (frame t of the window is clip frame last + speed * (t - (t_his - 1)),
+  // interpolated linearly), the factor lowered to the largest the clip holds where it ends
+  // first. speed 1 copies the recorded frames as they are.
+  void Gather(int w, float* out, double speed = 1) const;
   // Copies window multimodal[w][m] (a pseudo multimodal window of w) into out [T, N, 3] as it
   // was matched beside window w: in the body's frame turned by its own turn when matched there,
   // else by turn[w] (the two windows keep the headings they had to each other in the data's
-  // axes); as recorded when there is no body frame.
-  void GatherPseudo(int w, int m, float* out) const;
+  // axes); as recorded when there is no body frame. `speed` as Gather's, about its own last
+  // history frame.
+  void GatherPseudo(int w, int m, float* out, double speed = 1) const;
+  // The speed Gather reads window w at when asked for `speed` (lowered where the clip ends).
+  double SpeedThatFits(int w, double speed) const;
 
  private:
-  // Copies window v's frames into out [T, N, 3], turned by `angle` when in the body's frame.
-  void CopyTurned(int v, double angle, float* out) const;
+  // Copies window v's frames into out [T, N, 3] at `speed`, turned by `angle` when in the body's
+  // frame.
+  void CopyTurned(int v, double angle, double speed, float* out) const;
 };
 
 // body_frame: GeneratorOptions::body_frame ("" = the data's own axes; else the up axis, the
