@@ -105,6 +105,10 @@ TEST_CASE("a config's augmentation section parses, is off by default, and bad va
   const auto path = (dir.path() / "walker.yaml").string();
   const std::string head = "name: walker\nprotocol: bandai\ngenerator:\n  n_pre: 8\n";
   CHECK_FALSE(Shipped("bandai").augmentation.enabled());  // the shipped recipe trains unvaried
+  const GeneratorTrainConfig recipe = Shipped("recipes/bandai_augmented");  // the experiment's
+  CHECK(recipe.augmentation.mirror == 0.5);
+  CHECK(recipe.augmentation.speed == 1.3);
+  CHECK(recipe.training.epochs == Shipped("bandai").training.epochs);  // otherwise the recipe
   std::ofstream(path) << head
                       << "augmentation:\n  mirror: 0.5\n  scale: 1.1\n  speed: 1.25\n"
                          "  history_noise: 0.01\n";
