@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "core/heading.h"
 #include "generator/training/training.h"
 #include "generator/training/training_data.h"
 #include "synthetic_training.h"
@@ -120,10 +121,6 @@ TEST_CASE("mirroring exchanges left and right, reflects the hip line's axis and 
   }
   for (int n = 0; n < data.num_nodes; ++n)  // bones keep their lengths (as their partners')
     CHECK(BoneLength(m, sk, n) == Approx(BoneLength(window, sk, plan.partner[n])).epsilon(1e-5));
-  // The heading stays: the hip line's component along the reflected axis keeps its sign.
-  const float before = window[3 * hip.left + plan.axis] - window[3 * hip.right + plan.axis];
-  const float after = m[3 * hip.left + plan.axis] - m[3 * hip.right + plan.axis];
-  CHECK(before * after > 0);
   MirrorPoses(plan, data.num_frames(), m.data());
   CHECK(m == window);  // twice: the original
 
@@ -131,6 +128,49 @@ TEST_CASE("mirroring exchanges left and right, reflects the hip line's axis and 
   ScalePoses(1.1, s.size(), s.data());
   for (int n = 0; n < data.num_nodes; ++n)
     CHECK(BoneLength(s, sk, n) == Approx(1.1 * BoneLength(window, sk, n)).epsilon(1e-5));
+}
+
+TEST_CASE("in the body's frame a mirrored window keeps its heading at the last history frame") {
+  const Dataset ds = SyntheticDataset(8, 60);
+  const GeneratorTrainConfig cfg = TinyConfig();
+  const TrainingWindows data =
+      BuildTrainingWindows(ds, cfg.training.window_stride, cfg.multimodal, "y", "");
+  const Skeleton& sk = *ds.skeleton.skeleton;
+  const MirrorPlan plan = MakeMirrorPlan(sk, data);
+  CHECK(plan.axis == GroundAxes(*data.up).first);  // the body frame puts the hips along it
+  const HeadingJoints hip = HeadingNodes(sk);
+  const int N = data.num_nodes;
+  std::vector<float> window(static_cast<size_t>(data.num_frames()) * N * 3);
+  for (int w : {0, 17, 60}) {
+    data.Gather(w, window.data());
+    const float* last = window.data() + static_cast<size_t>(data.t_his - 1) * N * 3;
+    const double before = HeadingAngle(last, hip, *data.up);
+    MirrorPoses(plan, data.num_frames(), window.data());
+    const double after = HeadingAngle(last, hip, *data.up);
+    INFO("window " << w << ": heading " << before << " -> " << after);
+    CHECK(std::abs(before) < 1e-4);
+    CHECK(std::abs(after) < 1e-4);
+    // Another axis turns it round: a mirror that kept nothing would fail here.
+    MirrorPlan wrong = plan;
+    wrong.axis = GroundAxes(*data.up).second;
+    MirrorPoses(plan, data.num_frames(), window.data());  // back
+    MirrorPoses(wrong, data.num_frames(), window.data());
+    CHECK(std::abs(std::abs(HeadingAngle(last, hip, *data.up)) - M_PI) < 1e-4);
+  }
+}
+
+TEST_CASE("a window and its pseudo futures are read at one speed, the one that fits them all") {
+  TrainingWindows tw = LinearWindows(2, 40);
+  const int T = tw.num_frames(), N = 2;
+  tw.multimodal[10] = {30, 5};  // window 30 fits 1.75 at most (its future), window 5 3.5 (history)
+  CHECK(tw.SharedSpeed(10, 1, 2.0) == Approx(1.75));
+  CHECK(tw.SharedSpeed(10, 2, 2.0) == Approx(1.75));
+  CHECK(tw.SharedSpeed(10, 0, 2.0) == 2.0);  // no pseudo windows used: the window's own
+  CHECK(tw.SharedSpeed(10, 2, 0.8) == 0.8);
+  std::vector<float> out(static_cast<size_t>(T) * N * 3);
+  tw.GatherPseudo(10, 0, out.data(), 1.75);
+  for (int t = 0; t < T; ++t)  // window 30's last history frame is 32
+    CHECK(out[(t * N) * 3] == Approx(32 + 1.75 * (t - 2)));
 }
 
 TEST_CASE("a window read faster or slower keeps its last history frame and interpolates") {

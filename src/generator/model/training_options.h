@@ -39,13 +39,14 @@ struct MultimodalOptions {
 // trains as before, draw for draw. A varied window's pseudo multimodal futures are varied with it.
 struct AugmentationOptions {
   // Share of windows mirrored: left and right joints exchanged and the axis the windows' hip lines
-  // lie along reflected (generator/training/augmentation.h), so that headings are kept.
+  // lie along reflected (generator/training/augmentation.h's MakeMirrorPlan: headings kept in
+  // the body's frame; in the data's axes for windows facing the data's usual way).
   double mirror = 0;
   // Body size: each window's poses times a factor drawn log-uniformly in [1 / scale, scale].
   double scale = 1;
   // Playback speed: a factor drawn log-uniformly in [1 / speed, speed]; the window's frames are
-  // read that much faster about its last history frame (interpolated; a clip too short for the
-  // drawn factor gets the largest that fits).
+  // read that much faster about its last history frame (interpolated; where the clip, or a pseudo
+  // window's, is too short for the drawn factor, the largest that fits them all).
   double speed = 1;
   // Metres: Gaussian noise (standard deviation) on the history the network reads; the losses see
   // the clean history (a forecaster that tolerates repaired, e.g. imputed, histories).

@@ -41,7 +41,9 @@ struct MirrorPlan {
 // The skeleton's left/right pairs (Skeleton::Mirror) as nodes, and the axis the training windows'
 // hip lines lie along: the coordinate with the largest mean |left - right| over every window's
 // last history frame, for the heading pair (core/heading.h's HeadingNodes). Reflecting that axis
-// keeps the windows' headings (a body facing +x still faces +x, mirrored). Throws
+// keeps the heading of a window whose hips lie along it: every window in the body's frame (each
+// turned so that they do), in the data's axes the windows that face the data's usual way (the
+// others come out mirrored and facing another way, still real motion). Throws
 // std::invalid_argument naming the skeleton when it names no left/right pair.
 MirrorPlan MakeMirrorPlan(const Skeleton& skeleton, const TrainingWindows& data);
 

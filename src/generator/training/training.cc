@@ -169,12 +169,13 @@ TrainSummary TrainGenerator(const GeneratorTrainConfig& config, const ModelConfi
         // In the body's frame (Gather turns): the window, and each pseudo window as it was
         // matched, before its future is retargeted onto this window's last pose; each varied as
         // the window's draw says.
-        data.Gather(w, dst, a.speed);
+        const double speed = a.speed == 1 ? 1.0 : data.SharedSpeed(w, M, a.speed);
+        data.Gather(w, dst, speed);
         vary(a, T, dst);
         if (data.up) world_turn[b] = -data.turn[w];
         const auto& mm = data.multimodal[w];
         for (int m = 0; m < std::min<int>(M, mm.size()); ++m) {
-          data.GatherPseudo(w, m, other.data(), a.speed);
+          data.GatherPseudo(w, m, other.data(), speed);
           vary(a, T, other.data());
           RetargetFuture(
               other.data() + static_cast<size_t>(data.t_his) * N * 3,

@@ -27,6 +27,14 @@ double TrainingWindows::SpeedThatFits(int w, double speed) const {
   return std::max(1.0, speed);
 }
 
+double TrainingWindows::SharedSpeed(int w, int pseudo, double speed) const {
+  speed = SpeedThatFits(w, speed);
+  const auto& mm = multimodal.at(w);
+  for (int m = 0; m < std::min<int>(pseudo, static_cast<int>(mm.size())); ++m)
+    speed = SpeedThatFits(mm[m], speed);
+  return speed;
+}
+
 void TrainingWindows::CopyTurned(int v, double angle, double speed, float* out) const {
   const Window& win = windows.at(v);
   const size_t frame = static_cast<size_t>(num_nodes) * 3;

@@ -50,6 +50,9 @@ struct TrainingWindows {
   void GatherPseudo(int w, int m, float* out, double speed = 1) const;
   // The speed Gather reads window w at when asked for `speed` (lowered where the clip ends).
   double SpeedThatFits(int w, double speed) const;
+  // The speed that fits window w and its first `pseudo` pseudo multimodal windows alike, so that
+  // a window and the futures it is matched with are read at one speed.
+  double SharedSpeed(int w, int pseudo, double speed) const;
 
  private:
   // Copies window v's frames into out [T, N, 3] at `speed`, turned by `angle` when in the body's
