@@ -108,6 +108,9 @@ TEST_CASE("a config's augmentation section parses, is off by default, and bad va
   const GeneratorTrainConfig recipe = Shipped("recipes/bandai_augmented");  // the experiment's
   CHECK(recipe.augmentation.mirror == 0.5);
   CHECK(recipe.augmentation.speed == 1.3);
+  const AugmentationOptions noise = Shipped("recipes/bandai_history_noise").augmentation;
+  CHECK(noise.history_noise == 0.005);
+  CHECK((noise.mirror == 0 && noise.scale == 1 && noise.speed == 1));
   {  // and otherwise the shipped recipe, line for line (comments, name and the section aside)
     auto lines = [](const std::string& name, bool drop_augmentation) {
       std::ifstream in(ResolveConfigPath(MOTIONFORK_CONFIG_DIR, "models", name));
@@ -121,6 +124,7 @@ TEST_CASE("a config's augmentation section parses, is off by default, and bad va
       return kept;
     };
     CHECK(lines("recipes/bandai_augmented", true) == lines("bandai", false));
+    CHECK(lines("recipes/bandai_history_noise", true) == lines("bandai", false));
   }
   std::ofstream(path) << head
                       << "augmentation:\n  mirror: 0.5\n  scale: 1.1\n  speed: 1.25\n"
