@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/heading.h"
+#include "core/motion_noise.h"
 #include "generator/training/training_data.h"
 
 namespace motionfork {
@@ -74,8 +75,9 @@ void ScalePoses(double factor, size_t count, float* poses) {
 
 void AddNoise(double sd, size_t count, std::mt19937_64& rng, float* values) {
   if (sd <= 0) return;
-  std::normal_distribution<double> noise(0, sd);
-  for (size_t i = 0; i < count; ++i) values[i] += static_cast<float>(noise(rng));
+  NoiseSpec gaussian;  // core/motion_noise.h's: every value + N(0, sd^2), in order
+  gaussian.sigma = sd;
+  AddNoise(gaussian, values, 1, static_cast<int>(count / 3), rng);
 }
 
 }  // namespace motionfork

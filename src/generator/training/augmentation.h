@@ -53,8 +53,8 @@ void MirrorPoses(const MirrorPlan& plan, int frames, float* poses);
 // Scales `count` floats in place by `factor`.
 void ScalePoses(double factor, size_t count, float* poses);
 
-// Gaussian noise of standard deviation `sd` (metres) added to `count` floats in place, drawn from
-// `rng` (count draws, none when sd is 0).
+// Gaussian noise of standard deviation `sd` (metres) added to `count` floats (whole 3-vectors) in
+// place, drawn from `rng` by core/motion_noise.h's gaussian noise (count draws, none when sd is 0).
 void AddNoise(double sd, size_t count, std::mt19937_64& rng, float* values);
 
 }  // namespace motionfork
