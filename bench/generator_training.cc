@@ -1,6 +1,7 @@
 // Benchmark: one GSPS training step with every loss, at the issue's Human3.6M sizes, one thread.
 //
 //   bench_generator_training [--threads N] [--steps S] [--warmup W] [--precision fp32|bf16|ab]
+//                            [--reference bench/reference_gsps_training.py]
 //
 // --precision bf16: the residual blocks' products (forward and backward) with bf16 inputs and
 // float32 sums (training.precision, issue 30; needs AVX512-BF16); ab: steps alternate between
@@ -17,6 +18,10 @@
 // the steps after the warm-up and the peak memory. The first steps fault in the heap (3.4 GB,
 // about 18 us of kernel time per page on this VM) and are not what a long training run sees: W
 // (default 3) warm-up steps are left out of the medians.
+// --reference SCRIPT: GSPS's own training step in PyTorch (bench/reference_gsps_training.py, in its
+// own process on the same threads; /usr/bin/python3 or $MOTIONFORK_PYTHON) timed in turns with
+// ours, one reference step after each of ours (after each fp32 / bf16 pair with ab), and the
+// ratio of the medians printed: the issue's "training step N x faster than the reference" figure.
 // MOTIONFORK_PROFILE=FILE writes LibTorch's profile of the last step (a Chrome trace) to FILE.
 #include <sys/resource.h>
 #include <torch/csrc/autograd/profiler_legacy.h>
@@ -44,6 +49,7 @@
 #include "generator/training/losses.h"
 #include "generator_sizes.h"
 #include "peak_memory.h"
+#include "reference_process.h"
 #include "torch_util/blas_core.h"
 #include "torch_util/malloc_tuning.h"
 #include "torch_util/threads.h"
@@ -69,10 +75,11 @@ int main(int argc, char** argv) {
   UseFastBlasKernels(argv);
   KeepFreedMemory();
   int threads = 1, steps = 3, warmup = 3;
-  std::string precision = "fp32";
+  std::string precision = "fp32", reference_script;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--precision") && i + 1 < argc) precision = argv[++i];
     if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (!std::strcmp(argv[i], "--reference") && i + 1 < argc) reference_script = argv[++i];
     if (!std::strcmp(argv[i], "--steps") && i + 1 < argc) steps = std::max(1, std::atoi(argv[++i]));
     if (!std::strcmp(argv[i], "--warmup") && i + 1 < argc)
       warmup = std::max(0, std::atoi(argv[++i]));
@@ -92,6 +99,15 @@ int main(int argc, char** argv) {
     steps *= 2;
   }
   PinThreads(threads);
+  std::unique_ptr<bench::ReferenceProcess> reference;
+  if (!reference_script.empty()) {
+    // Started (and warmed up) before our network is built: its two warm-up steps fault in its
+    // own heap, not ours.
+    const char* python = std::getenv("MOTIONFORK_PYTHON");
+    reference = std::make_unique<bench::ReferenceProcess>(
+        std::vector<std::string>{python ? python : "/usr/bin/python3", reference_script, "--serve",
+                                 "--threads", std::to_string(threads)});
+  }
   torch::manual_seed(0);
   const std::string configs = MOTIONFORK_BENCH_CONFIG_DIR;
   const std::shared_ptr<const Skeleton> skeleton =
@@ -140,6 +156,7 @@ int main(int argc, char** argv) {
               threads, ab ? "fp32 and bf16 in turns" : precision.c_str());
   std::vector<double> forward, losses, backward, update, total, prior_time, angle_time;
   std::vector<double> totals[2];  // ab: fp32, bf16
+  std::vector<double> reference_steps;
   for (int s = 0; s < warmup + steps; ++s) {
     const bool bf16 = ab ? s % 2 == 1 : precision == "bf16";
     net->set_bf16_products(bf16);
@@ -192,11 +209,27 @@ int main(int argc, char** argv) {
     update.push_back(t_update);
     total.push_back(Seconds(t0));
     totals[bf16].push_back(total.back());
+    if (reference && (!ab || bf16)) {
+      reference_steps.push_back(reference->Run());
+      std::printf("reference step: %.2f s\n", reference_steps.back());
+      std::fflush(stdout);
+    }
   }
   if (ab) {
     const double a = Median(totals[0]), b = Median(totals[1]);
     std::printf("A/B, %zu steps each: fp32 %.3f s, bf16 %.3f s median; bf16 %.2fx fp32's speed\n",
                 totals[0].size(), a, b, a / b);
+  }
+  if (reference) {
+    const double r = Median(reference_steps);
+    std::printf(
+        "reference: GSPS's training step in PyTorch (%s, %lld generator parameters): %.2f "
+        "s median of %zu, in turns with ours\n",
+        reference_script.c_str(), reference->parameters(), r, reference_steps.size());
+    if (ab || precision == "fp32")
+      std::printf("  fp32 step %.2fx faster than the reference\n", r / Median(totals[0]));
+    if (ab || precision == "bf16")
+      std::printf("  bf16 step %.2fx faster than the reference\n", r / Median(totals[1]));
   }
   std::printf("generator forward: %.2f s\n", Median(forward));
   std::printf("losses (incl. prior NLL and angle penalty): %.2f s\n", Median(losses));

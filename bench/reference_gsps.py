@@ -177,6 +177,22 @@ def expected_parameters():
     return len(PARTS) * (head + 2 * BLOCKS * block_layer + tail)
 
 
+def serve(name, parameters, run_ms):
+    """The --serve protocol (bench/reference_process.h): "ready <parameters>", then one timed run
+    per "run" line on stdin, its ms printed with 4 decimals; "quit" or EOF returns."""
+    print(f"ready {parameters}", flush=True)
+    while True:
+        line = sys.stdin.readline()
+        cmd = line.strip()
+        if not line or cmd == "quit":
+            return
+        if cmd != "run":
+            print(f"{name}: unknown command {cmd!r} (expected run or quit)", file=sys.stderr,
+                  flush=True)
+            sys.exit(2)
+        print(f"{run_ms():.4f}", flush=True)
+
+
 def main():
     p = argparse.ArgumentParser(
         description=__doc__.split("\n")[0],
@@ -215,17 +231,8 @@ def main():
         if a.warmup:
             assert y.shape == (a.k, T_HIS + T_PRED, NODES, 3) and bool(torch.isfinite(y).all())
         if a.serve:
-            print(f"ready {params}", flush=True)
-            while True:
-                line = sys.stdin.readline()
-                cmd = line.strip()
-                if not line or cmd == "quit":
-                    return
-                if cmd != "run":
-                    print(f"reference_gsps: unknown command {cmd!r} (expected run or quit)",
-                          file=sys.stderr, flush=True)
-                    sys.exit(2)
-                print(f"{run()[0]:.4f}", flush=True)
+            serve("reference_gsps", params, lambda: run()[0])
+            return
         print(f"reference GSPS generator, PyTorch {torch.__version__} eager, float32: {params} "
               f"parameters, {torch.get_num_threads()} thread(s)")
         times = [run()[0] for _ in range(a.rounds)]
