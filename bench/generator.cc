@@ -43,15 +43,6 @@ double Seconds(const std::chrono::steady_clock::time_point& t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// Multiply-adds of one generator pass per sample (graph-conv products only).
-double MacsPerSample(const GeneratorOptions& o, int parts) {
-  const double N = o.num_nodes, C = o.coeff_features(), H = o.hidden, Z = o.nz;
-  const double input = N * C * H + Z * H + N * N * H;
-  const double hidden = 2 * o.blocks * (N * H * H + N * N * H);
-  const double output = N * H * C + N * N * C;
-  return parts * (input + hidden + output);
-}
-
 // Median over `reps` of the time for 16 histories x 50 futures run one history at a time.
 template <typename Run>
 double SixteenOneAtATime(Run& run, int reps) {
@@ -91,7 +82,7 @@ int main(int argc, char** argv) {
   for (const auto& p : net->parameters()) params += p.numel();
   std::printf("generator: %lld parameters, %d thread(s)\n", static_cast<long long>(params),
               threads);
-  const double gflop_per_sample = 2 * MacsPerSample(o, 2) / 1e9;
+  const double gflop_per_sample = 2 * bench::MacsPerSample(o, 2) / 1e9;
 
   std::printf("peak resident memory with the network built: %.0f MB\n",
               bench::PeakResidentMegabytes());
@@ -162,7 +153,8 @@ int main(int argc, char** argv) {
       // H x H products), everything else in float32; its share is of the best time the two
       // engines' measured peaks allow for that split of the work.
       const double peak16 = bench::PeakBf16Gflops(100000000), m16 = median(t16);
-      const double gflop16 = 2.0 * 2 * o.blocks * o.num_nodes * o.hidden * o.hidden / 1e9;
+      const double gflop16 =  // the later half of the layers, 2 FLOP a multiply-add
+          2 * (bench::HiddenProductMacsPerSample(o, 2) / 2) / 1e9;
       const double best = 50 * (gflop16 / peak16 + (gflop_per_sample - gflop16) / peak);
       std::printf(
           "  bf16 products in half the hidden layers, AVX512-BF16 (vdpbf16ps peak %.1f GFLOP/s, "

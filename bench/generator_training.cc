@@ -43,6 +43,8 @@
 #include "constraints/torch/angle_penalty.h"
 #include "flow/flow_module.h"
 #include "flow/pose_prior.h"
+#include "fma_peak.h"
+#include "generator/kernels/cpu_features.h"
 #include "generator/kernels/precision.h"
 #include "generator/model/generator_net.h"
 #include "generator/model/latents.h"
@@ -213,6 +215,28 @@ int main(int argc, char** argv) {
       reference_steps.push_back(reference->Run());
       std::printf("reference step: %.2f s\n", reference_steps.back());
       std::fflush(stdout);
+    }
+  }
+  // Each engine's measured peak and the share of it the step reached: the step's graph-conv
+  // products (the forward pass and the two backward products, 3x the forward's multiply-adds)
+  // over its time; bf16 steps against the best time the two peaks allow for their split (the
+  // residual blocks' products in bf16, the rest float32).
+  if (kernels::Cpu().avx512) {
+    const double samples = static_cast<double>(Bh) * per_part[0] * per_part[1];
+    const double gflop = 3 * 2 * bench::MacsPerSample(o, 2) * samples / 1e9;
+    const double peak = bench::PeakGflops(100000000);
+    std::printf("products: %.1f GFLOP a step (forward and both backward products)\n", gflop);
+    if (!totals[0].empty())
+      std::printf("  fp32 step: %.0f%% of the AVX-512 FMA peak (%.1f GFLOP/s)\n",
+                  100 * gflop / Median(totals[0]) / peak, peak);
+    if (!totals[1].empty()) {
+      const double peak16 = bench::PeakBf16Gflops(100000000);
+      const double gflop16 = 3 * 2 * bench::HiddenProductMacsPerSample(o, 2) * samples / 1e9;
+      const double best = gflop16 / peak16 + (gflop - gflop16) / peak;
+      std::printf(
+          "  bf16 step: %.0f%% of the best the two peaks allow (vdpbf16ps peak %.1f GFLOP/s, "
+          "%.0f%% of the products in bf16)\n",
+          100 * best / Median(totals[1]), peak16, 100 * gflop16 / gflop);
     }
   }
   if (ab) {
