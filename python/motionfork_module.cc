@@ -223,7 +223,7 @@ PYBIND11_MODULE(motionfork, m) {
           },
           py::arg("path"), py::arg("constraints") = "", py::arg("threads") = 0,
           py::arg("config_dir") = "", py::arg("joint_map") = "", py::arg("unit") = "",
-          py::arg("up") = "", py::arg("left_right") = "", py::arg("precision") = "fp32",
+          py::arg("up") = "", py::arg("left_right") = "", py::arg("precision") = "auto",
           "Loads a model bundle. constraints: the angle-range set check() uses (a shipped name or\n"
           "a YAML path; '' = the bundle's own; 'none' = none); threads > 0 pins the thread pools\n"
           "(process-wide); joint_map: how motions of another rig map onto the model's joints\n"
@@ -231,7 +231,9 @@ PYBIND11_MODULE(motionfork, m) {
           "a joint map YAML, configs/rigs/README.md); unit ('m', 'cm', 'mm', 'in'), up ('y', 'z',\n"
           "'-z', ...) and left_right ('as-labelled', 'swapped') force how read_motion() and\n"
           "predict(Motion) read a motion's frame ('' = told from the body); precision: the\n"
-          "generator's products, 'fp32', 'bf16' (needs AVX512-BF16) or 'auto'.")
+          "generator's products, 'auto' (bf16 where the CPU has AVX512-BF16, else fp32), 'fp32' "
+          "or\n"
+          "'bf16' (needs AVX512-BF16).")
       .def_property_readonly("joint_names", &mf::Model::joint_names, "joint names, root first")
       .def_property_readonly("parents", &mf::Model::parents,
                              "parent index per joint, -1 for the root")

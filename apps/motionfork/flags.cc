@@ -111,9 +111,9 @@ CLI::Option* AddPrecisionOption(CLI::App* cmd, Precision* precision, const std::
       ->add_option_function<std::string>(
           "--precision", [precision](const std::string& s) { *precision = ParsePrecision(s); },
           !help.empty() ? help
-                        : "The generator's products: fp32 (default), bf16 (bfloat16 inputs, "
-                          "float32 sums; needs AVX512-BF16) or auto (bf16 where the CPU has it); "
-                          "RESULTS.md gives bf16's accuracy")
+                        : "The generator's products: auto (default: bf16 where the CPU has "
+                          "AVX512-BF16, else fp32), fp32, or bf16 (bfloat16 inputs, float32 sums; "
+                          "needs AVX512-BF16); RESULTS.md gives bf16's accuracy")
       ->check(CLI::IsMember({"fp32", "bf16", "auto"}));
 }
 

@@ -96,7 +96,7 @@ CLI::Option* AddOutOption(CLI::App* cmd, std::string* path, const std::string& h
 // WindowThreads).
 void AddThreadsOption(CLI::App* cmd, int* threads);
 // --precision fp32|bf16|auto (generator/kernels/precision.h).
-// help: "" = the generator's products at inference (fp32 the default).
+// help: "" = the generator's products at inference (auto the default).
 CLI::Option* AddPrecisionOption(CLI::App* cmd, Precision* precision, const std::string& help = "");
 // --forecaster BUNDLE, --forecast-windows N, -k K: the forecasting figures of the history-repair
 // experiments.

@@ -71,10 +71,11 @@ struct LoadOptions {
   // pelvis-to-head axis, the knees), as the command does: unit "m", "cm", "mm" or "in"; up "y",
   // "z", "x", "-y", "-z" or "-x"; left_right "as-labelled" or "swapped".
   std::string unit, up, left_right;
-  // The generator's products: "fp32" (float32), "bf16" (bfloat16 inputs and float32 sums, on
-  // CPUs with AVX512-BF16; elsewhere Load throws) or "auto" (bf16 where the CPU has it). bf16's
-  // futures differ from fp32's by a fraction of a millimetre on average (RESULTS.md).
-  std::string precision = "fp32";
+  // The generator's products: "auto" (the default: bf16 where the CPU has AVX512-BF16, fp32
+  // elsewhere), "fp32" (float32) or "bf16" (bfloat16 inputs and float32 sums, on CPUs with
+  // AVX512-BF16; elsewhere Load throws). bf16's futures are within 1 mm of fp32's, a quarter of a
+  // millimetre apart on average (RESULTS.md "bf16 products").
+  std::string precision = "auto";
 };
 
 // One body part the model samples with its own latent code.

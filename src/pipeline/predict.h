@@ -94,7 +94,7 @@ struct PredictFiles {
   // file (pipeline/export_on_rig.h), else on the model's skeleton (pipeline/export.h).
   bool bvh = false;
   ForecastRequest request;                 // k, seed, fixed parts, repair
-  Precision precision = Precision::kFp32;  // the generator's products (precision.h)
+  Precision precision = Precision::kAuto;  // the generator's products (precision.h)
 };
 
 // What the run saw on the way, for the caller to report.

@@ -114,8 +114,10 @@ TEST_CASE("Model::Predict gives k futures of future_frames frames, as the Foreca
   for (float v : f.positions) REQUIRE(std::isfinite(v));
   CHECK(f.sample(2) == f.positions.data() + 2 * 10 * 17 * 3);
 
-  // The history's last 5 frames, through the Forecaster directly.
-  const Forecaster forecaster = LoadForecaster(Bundle());
+  // The history's last 5 frames, through the Forecaster directly (built fp32; the API's default
+  // is auto).
+  Forecaster forecaster = LoadForecaster(Bundle());
+  forecaster.SetPrecision(Precision::kAuto);
   const Motion history(forecaster.skeleton(), 30.0, History());
   ForecastRequest request;
   request.k = 6;
@@ -136,9 +138,12 @@ TEST_CASE("LoadOptions::precision: fp32, bf16 where the CPU has AVX512-BF16, aut
   LoadOptions o;
   o.precision = "fp16";
   CHECK_THROWS_WITH(LoadTiny(o), Contains("expected fp32, bf16 or auto"));
-  const Futures fp32 = LoadTiny().Predict(History(), {6, 11, {}});
+  CHECK(LoadOptions().precision == "auto");  // the default
+  o.precision = "fp32";
+  const Futures fp32 = LoadTiny(o).Predict(History(), {6, 11, {}});
   o.precision = "auto";
   const Futures any = LoadTiny(o).Predict(History(), {6, 11, {}});
+  CHECK(LoadTiny().Predict(History(), {6, 11, {}}).positions == any.positions);
   o.precision = "bf16";
   if (!Bf16ProductsAvailable()) {
     CHECK_THROWS_WITH(LoadTiny(o), Contains("AVX512-BF16"));

@@ -1,9 +1,10 @@
 // Which arithmetic the generator's products run in (issue 30), as `--precision` and the C++ API's
 // LoadOptions::precision name it:
-//   fp32  float32 products everywhere (the default);
+//   fp32  float32 products everywhere (the default of training and of a Forecaster as built);
 //   bf16  the hidden layers' products with bfloat16 inputs and float32 sums (fused_generator.h),
 //         on the AVX512-BF16 kernel; an error on a CPU without AVX512-BF16;
-//   auto  bf16 where the CPU has AVX512-BF16, fp32 elsewhere.
+//   auto  bf16 where the CPU has AVX512-BF16, fp32 elsewhere: the default of `predict`, `eval`,
+//         the C++ API's LoadOptions and Python's Model.load.
 // Measured accuracy of bf16 against fp32 (same seed): RESULTS.md "bf16 products".
 #pragma once
 

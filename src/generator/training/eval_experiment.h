@@ -35,7 +35,7 @@ struct EvalExperimentOptions {
   uint64_t seed = 0;
   std::string fix;     // a part of the default partition shared by every sample; ""
   bool repair = true;  // learned predictor: the bundle's angle-range repair
-  Precision precision = Precision::kFp32;  // learned predictor: its products (precision.h)
+  Precision precision = Precision::kAuto;  // learned predictor: its products (precision.h)
   std::string constraints;  // "" = the protocol's shipped set when there is one; "none" = off
   std::string prior;        // "" = <models_dir>/prior-<protocol> when shipped; "none" = off
   std::string config_dir;   // protocols/, skeletons/, constraints/
