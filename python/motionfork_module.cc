@@ -231,9 +231,8 @@ PYBIND11_MODULE(motionfork, m) {
           "a joint map YAML, configs/rigs/README.md); unit ('m', 'cm', 'mm', 'in'), up ('y', 'z',\n"
           "'-z', ...) and left_right ('as-labelled', 'swapped') force how read_motion() and\n"
           "predict(Motion) read a motion's frame ('' = told from the body); precision: the\n"
-          "generator's products, 'auto' (bf16 where the CPU has AVX512-BF16, else fp32), 'fp32' "
-          "or\n"
-          "'bf16' (needs AVX512-BF16).")
+          "generator's products, 'auto' (bf16 where the CPU has AVX512-BF16, else fp32), 'fp32'\n"
+          "or 'bf16' (needs AVX512-BF16).")
       .def_property_readonly("joint_names", &mf::Model::joint_names, "joint names, root first")
       .def_property_readonly("parents", &mf::Model::parents,
                              "parent index per joint, -1 for the root")
