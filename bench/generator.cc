@@ -118,14 +118,8 @@ int main(int argc, char** argv) {
     // float32, the hidden layers' products in bf16 where AVX512-BF16 runs (issue 30), and the
     // reference PyTorch code when asked for.
     std::unique_ptr<bench::ReferenceProcess> reference;
-    if (!reference_script.empty()) {
-      // Debian's python3-torch installs for /usr/bin/python3 (another python3 may come first on
-      // PATH); $MOTIONFORK_PYTHON chooses another interpreter.
-      const char* python = std::getenv("MOTIONFORK_PYTHON");
-      reference = std::make_unique<bench::ReferenceProcess>(
-          std::vector<std::string>{python ? python : "/usr/bin/python3", reference_script,
-                                   "--serve", "--threads", std::to_string(threads)});
-    }
+    if (!reference_script.empty())
+      reference = bench::ReferenceProcess::Python(reference_script, threads);
     const bool bf16 = kernels::Bf16KernelRuns();
     std::unique_ptr<FusedGenerator> fast16;
     if (bf16) fast16 = std::make_unique<FusedGenerator>(*net, ProductPrecision::kBf16);

@@ -32,7 +32,7 @@ inline double HiddenProductMacsPerSample(const GeneratorOptions& o, int parts) {
 inline double MacsPerSample(const GeneratorOptions& o, int parts) {
   const double N = o.num_nodes, C = o.coeff_features(), H = o.hidden, Z = o.nz;
   const double input = N * C * H + Z * H + N * N * H;
-  const double hidden = 2 * o.blocks * (N * H * H + N * N * H);
+  const double hidden = HiddenProductMacsPerSample(o, 1) + 2 * o.blocks * N * N * H;
   const double output = N * H * C + N * N * C;
   return parts * (input + hidden + output);
 }

@@ -105,10 +105,7 @@ int main(int argc, char** argv) {
   if (!reference_script.empty()) {
     // Started (and warmed up) before our network is built: its two warm-up steps fault in its
     // own heap, not ours.
-    const char* python = std::getenv("MOTIONFORK_PYTHON");
-    reference = std::make_unique<bench::ReferenceProcess>(
-        std::vector<std::string>{python ? python : "/usr/bin/python3", reference_script, "--serve",
-                                 "--threads", std::to_string(threads)});
+    reference = bench::ReferenceProcess::Python(reference_script, threads);
   }
   torch::manual_seed(0);
   const std::string configs = MOTIONFORK_BENCH_CONFIG_DIR;

@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -60,6 +61,16 @@ class ReferenceProcess {
     }
     if (out_) std::fclose(out_);
     if (pid_ > 0) waitpid(pid_, nullptr, 0);
+  }
+
+  // A bench/reference_*.py script served on `threads` intra-op threads by Debian's python3-torch,
+  // which installs for /usr/bin/python3 (another python3 may come first on PATH);
+  // $MOTIONFORK_PYTHON chooses another interpreter.
+  static std::unique_ptr<ReferenceProcess> Python(const std::string& script, int threads) {
+    const char* python = std::getenv("MOTIONFORK_PYTHON");
+    return std::make_unique<ReferenceProcess>(
+        std::vector<std::string>{python ? python : "/usr/bin/python3", script, "--serve",
+                                 "--threads", std::to_string(threads)});
   }
 
   long long parameters() const { return parameters_; }
