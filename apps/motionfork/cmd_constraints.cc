@@ -22,30 +22,11 @@ struct ShowOptions {
   std::string skeleton;
 };
 
-// The command line that reproduces a fit, for the written file's header.
-std::string FitCommandLine(const pipeline::ConstraintFitRequest& o, const std::string& out) {
-  const FitOptions defaults;
-  std::string cmd =
-      "motionfork constraints fit --protocol " + o.protocol + " --data " + o.data + " -o " + out;
-  if (!o.constraints.empty()) cmd += " --constraints " + o.constraints;
-  if (!o.split_file.empty()) cmd += " --split " + o.split_file;
-  if (o.fit.low_percentile != defaults.low_percentile)
-    cmd += StringPrintf(" --low %g", o.fit.low_percentile);
-  if (o.fit.high_percentile != defaults.high_percentile) {
-    cmd += StringPrintf(" --high %g", o.fit.high_percentile);
-  }
-  if (o.fit.margin_deg != defaults.margin_deg)
-    cmd += StringPrintf(" --margin %g", o.fit.margin_deg);
-  if (o.fit.round_deg != defaults.round_deg) cmd += StringPrintf(" --round %g", o.fit.round_deg);
-  if (o.leave_one_out) cmd += " --leave-one-out";
-  return cmd;
-}
-
 void RunFit(const FitCmd& c, const GlobalOptions& g) {
   RequireArgument(c.out, "-o,--out");
   const std::string& out = c.out;
   pipeline::ConstraintFitRequest o = c.request;
-  o.command_line = FitCommandLine(o, out);
+  o.command_line = pipeline::ConstraintFitCommandLine(o, out);
   o.config_dir = ConfigDir(g.config_dir);
   o.cache_dir = CacheDir(g.cache_dir);
   StageBars bars(!g.quiet);

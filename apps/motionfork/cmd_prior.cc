@@ -47,29 +47,24 @@ struct SampleOptions {
 
 // Per-epoch bars on a terminal only: in a log the epoch lines say it all.
 PriorTrainCallbacks EpochReports(const GlobalOptions& g, const std::string& checkpoint,
-                                 std::shared_ptr<std::unique_ptr<ProgressBar>> bar) {
-  const bool bars = !g.quiet && isatty(fileno(stderr));
-  auto announced = std::make_shared<bool>(false);
+                                 std::shared_ptr<std::unique_ptr<EpochBars>> bars) {
+  const bool enabled = !g.quiet && isatty(fileno(stderr));
   PriorTrainCallbacks callbacks;
   callbacks.stop_requested = InterruptRequest::requested;
   callbacks.progress = [=](const PriorTrainProgress& p) {
-    if (!*announced && p.epoch > 0) {
-      std::printf("resuming:  %s holds %d of %d epochs\n", checkpoint.c_str(), p.epoch, p.epochs);
-      std::fflush(stdout);
+    if (!*bars) {
+      if (p.epoch > 0)
+        PrintText(StringPrintf("resuming:  %s holds %d of %d epochs\n", checkpoint.c_str(), p.epoch,
+                               p.epochs));
+      *bars = std::make_unique<EpochBars>(p.epochs, enabled);
     }
-    *announced = true;
     if (!p.epoch_done) {
-      if (!*bar) {
-        *bar = std::make_unique<ProgressBar>(
-            "epoch " + std::to_string(p.epoch + 1) + "/" + std::to_string(p.epochs), bars);
-      }
-      (*bar)->Update(static_cast<double>(p.step) / p.steps_per_epoch,
-                     StringPrintf("NLL %.3f", p.train_nll));
+      (*bars)->Update(p.epoch, static_cast<double>(p.step) / p.steps_per_epoch,
+                      StringPrintf("NLL %.3f", p.train_nll));
       return;
     }
-    bar->reset();
-    if (!pipeline::PriorEpochGetsLine(p.epoch, p.epochs)) return;
-    PrintText(pipeline::PriorEpochText(p));
+    (*bars)->Finish();
+    if (pipeline::PriorEpochGetsLine(p.epoch, p.epochs)) PrintText(pipeline::PriorEpochText(p));
     std::fflush(stdout);
   };
   return callbacks;
@@ -94,7 +89,7 @@ bool TrainPriorOrStop(const pipeline::PriorTrainingRequest& request, GlobalOptio
   o.threads = o.threads > 0 ? o.threads : DefaultThreads();
   PinThreads(o.threads);
   StageBars loading(!g.quiet);
-  auto bar = std::make_shared<std::unique_ptr<ProgressBar>>();
+  auto bars = std::make_shared<std::unique_ptr<EpochBars>>();
   pipeline::PriorTrainingCallbacks callbacks;
   callbacks.loading = loading.Callback();
   callbacks.started = [&](const PosePrior& prior, const PriorData& data, const std::string& path) {
@@ -103,12 +98,12 @@ bool TrainPriorOrStop(const pipeline::PriorTrainingRequest& request, GlobalOptio
     std::fflush(stdout);
   };
   callbacks.training =
-      EpochReports(g, (std::filesystem::path(o.out) / "checkpoint.pt").string(), bar);
+      EpochReports(g, (std::filesystem::path(o.out) / "checkpoint.pt").string(), bars);
   const pipeline::PriorTrainingRun run = [&] {
     const InterruptRequest ctrl_c;
     return pipeline::TrainPriorBundle(o, callbacks);
   }();
-  bar->reset();
+  bars->reset();
   if (!run.completed) {
     PrintText(pipeline::PriorTrainingInterruptedText(o.out));
     g.exit_code = kExitInterrupted;

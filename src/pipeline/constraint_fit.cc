@@ -8,6 +8,7 @@
 #include "config/config_paths.h"
 #include "config/constraint_config.h"
 #include "config/protocol_config.h"
+#include "config/protocol_dataset.h"
 #include "config/skeleton_config.h"
 #include "constraints/checker.h"
 #include "dataset/dataset.h"
@@ -184,12 +185,9 @@ ConstraintFit FitConstraints(const ConstraintFitRequest& o) {
   // Bind before the (long) dataset load, so a bad definition fails at once.
   const ConstraintSet set = ConstraintSet::Build(f.definitions, *skeleton.skeleton, build_options);
 
-  DatasetLoadOptions load{o.cache_dir, o.split_file, [&](const LoadProgress& p) {
-                            ReportProgress(o.progress, "loading " + f.protocol.name, p.fraction,
-                                           p.detail);
-                          }};
-  load.warning = [&](const std::string& w) { ReportWarning(o.progress, w); };
-  const Dataset ds = LoadDataset(f.protocol, skeleton, o.data, load);
+  const Dataset ds = LoadDataset(
+      f.protocol, skeleton, o.data,
+      ReportingLoadOptions(o.cache_dir, o.split_file, o.progress, "loading " + f.protocol.name));
   const std::vector<int> train = ds.ClipIndices(Split::kTrain), test = ds.ClipIndices(Split::kTest);
   if (train.empty()) {
     throw std::invalid_argument("no training clips in " + o.data + " under protocol '" +

@@ -72,4 +72,21 @@ std::string ConstraintFitText(const ConstraintFit& f) {
   return text;
 }
 
+std::string ConstraintFitCommandLine(const ConstraintFitRequest& o, const std::string& out) {
+  const FitOptions defaults;
+  std::string cmd =
+      "motionfork constraints fit --protocol " + o.protocol + " --data " + o.data + " -o " + out;
+  if (!o.constraints.empty()) cmd += " --constraints " + o.constraints;
+  if (!o.split_file.empty()) cmd += " --split " + o.split_file;
+  if (o.fit.low_percentile != defaults.low_percentile)
+    cmd += StringPrintf(" --low %g", o.fit.low_percentile);
+  if (o.fit.high_percentile != defaults.high_percentile)
+    cmd += StringPrintf(" --high %g", o.fit.high_percentile);
+  if (o.fit.margin_deg != defaults.margin_deg)
+    cmd += StringPrintf(" --margin %g", o.fit.margin_deg);
+  if (o.fit.round_deg != defaults.round_deg) cmd += StringPrintf(" --round %g", o.fit.round_deg);
+  if (o.leave_one_out) cmd += " --leave-one-out";
+  return cmd;
+}
+
 }  // namespace motionfork::pipeline

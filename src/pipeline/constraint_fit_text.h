@@ -11,4 +11,8 @@ namespace motionfork::pipeline {
 
 std::string ConstraintFitText(const ConstraintFit& fit);
 
+// The `motionfork constraints fit` command that reproduces a fit written to `out` (options at
+// their defaults left out), for the written file's header.
+std::string ConstraintFitCommandLine(const ConstraintFitRequest& request, const std::string& out);
+
 }  // namespace motionfork::pipeline

@@ -7,6 +7,7 @@
 #include "bundle/prior_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
+#include "config/protocol_dataset.h"
 #include "config/skeleton_config.h"
 #include "dataset/dataset.h"
 #include "io/file_util.h"
@@ -55,11 +56,8 @@ PriorTrainingRun TrainPriorBundle(const PriorTrainingRequest& o,
       LoadProtocolConfig(ResolveConfigPath(o.config_dir, "protocols", o.protocol));
   const SkeletonConfig skeleton =
       LoadSkeletonConfig(ResolveConfigPath(o.config_dir, "skeletons", protocol.skeleton));
-  DatasetLoadOptions load{o.cache_dir, o.split_file, [&](const LoadProgress& p) {
-                            ReportProgress(callbacks.loading, "loading " + protocol.name,
-                                           p.fraction, p.detail);
-                          }};
-  load.warning = [&](const std::string& w) { ReportWarning(callbacks.loading, w); };
+  const DatasetLoadOptions load = ReportingLoadOptions(o.cache_dir, o.split_file, callbacks.loading,
+                                                       "loading " + protocol.name);
   const PriorData data =
       MakePriorData(LoadDataset(protocol, skeleton, o.data, load), config.training);
   PosePrior prior(skeleton.skeleton, config);

@@ -12,6 +12,7 @@
 #include "bundle/generator_bundle.h"
 #include "config/config_paths.h"
 #include "config/protocol_config.h"
+#include "config/protocol_dataset.h"
 #include "config/rig_config.h"
 #include "config/skeleton_config.h"
 #include "core/heading.h"
@@ -216,9 +217,9 @@ void LoadTestClips(const EvalExperimentOptions& o, const ProtocolOptions& protoc
     };
   };
   if (!o.data.empty()) {
-    DatasetLoadOptions load{o.cache_dir, o.split_file, relay("loading " + protocol.name)};
-    load.warning = [&o](const std::string& w) { ReportWarning(o.progress, w); };
-    out->dataset = LoadDataset(protocol, skeleton, o.data, load);
+    out->dataset = LoadDataset(
+        protocol, skeleton, o.data,
+        ReportingLoadOptions(o.cache_dir, o.split_file, o.progress, "loading " + protocol.name));
   }
   if (!o.clips.empty()) {
     ClipFolderOptions read;
