@@ -6,9 +6,7 @@
 
 #include "bundle/prior_bundle.h"
 #include "config/config_paths.h"
-#include "config/protocol_config.h"
 #include "config/protocol_dataset.h"
-#include "config/skeleton_config.h"
 #include "dataset/dataset.h"
 #include "io/file_util.h"
 #include "launch/worker_place.h"
@@ -52,14 +50,16 @@ PriorTrainingRun TrainPriorBundle(const PriorTrainingRequest& o,
         " already holds a trained prior (prior.yaml) and no checkpoint to resume: pass "
         "--restart to train it again, or choose another --out");
   }
-  const ProtocolOptions protocol =
-      LoadProtocolConfig(ResolveConfigPath(o.config_dir, "protocols", o.protocol));
-  const SkeletonConfig skeleton =
-      LoadSkeletonConfig(ResolveConfigPath(o.config_dir, "skeletons", protocol.skeleton));
-  const DatasetLoadOptions load = ReportingLoadOptions(o.cache_dir, o.split_file, callbacks.loading,
-                                                       "loading " + protocol.name);
-  const PriorData data =
-      MakePriorData(LoadDataset(protocol, skeleton, o.data, load), config.training);
+  ProtocolOptions protocol;
+  SkeletonConfig skeleton;
+  PriorData data;
+  {  // the clips are freed once their frames are sampled
+    const Dataset ds = LoadProtocolDataset(
+        {o.protocol, o.data, o.split_file, o.config_dir, o.cache_dir}, callbacks.loading);
+    protocol = ds.protocol;
+    skeleton = ds.skeleton;
+    data = MakePriorData(ds, config.training);
+  }
   PosePrior prior(skeleton.skeleton, config);
   prior.set_skeleton_config(protocol.skeleton);
   prior.mutable_summary().protocol = protocol.name;
