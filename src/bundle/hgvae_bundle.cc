@@ -84,7 +84,7 @@ void ParseImpute(const std::string& file, const YAML::Node& n, ImputeOptions* o)
 // number >= 0 or kRefinerGapLengths of them (absent: 0); only with a refiner.
 void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, HgvaeManifest* m) {
   for (const char* key : {"refiner_weights", "refiner_local_weights", "refiner_keep_bones",
-                          "refiner_adapt_values", "refiner_smooth"}) {
+                          "refiner_adapt_values", "refiner_smooth", "refiner_gaussian"}) {
     if (root[key] && !m->refiner.enabled())
       Fail(file, root[key], std::string(key) + ": expected a refiner, found none");
   }
@@ -132,6 +132,27 @@ void ParseRefinerCalibration(const std::string& file, const YAML::Node& root, Hg
     for (const double x : {s.bracketed, s.one_sided}) {
       if (!std::isfinite(x) || x < 0)
         Fail(file, n, "refiner_smooth: expected finite numbers >= 0, found " + std::to_string(x));
+    }
+  }
+  if (const YAML::Node n = root["refiner_gaussian"]) {
+    CheckKeys(file, n, "refiner_gaussian", {"file", "frames", "coords", "windows", "scope"});
+    HgvaeManifest::GaussianStage& o = m->refiner_gaussian;
+    o.file = Get<std::string>(file, n, "file");
+    o.frames = Get<int>(file, n, "frames");
+    o.coords = Get<int>(file, n, "coords");
+    o.windows = Get<long long>(file, n, "windows");
+    try {
+      o.scope = ParseGaussianScope(GetOr<std::string>(file, n, "scope", "one_sided"));
+    } catch (const std::invalid_argument& e) {
+      Fail(file, n["scope"], e.what());
+    }
+    if (o.file.empty() || o.file.find('/') != std::string::npos || o.frames <= 0 ||
+        o.frames > 256 || o.coords <= 0 || o.coords > 3 * 256 || o.windows < 2) {
+      Fail(file, n,
+           "refiner_gaussian: expected a file name inside the bundle, frames 1-256, coords "
+           "1-768 and windows >= 2, found '" +
+               o.file + "', " + std::to_string(o.frames) + ", " + std::to_string(o.coords) + ", " +
+               std::to_string(o.windows));
     }
   }
 }
@@ -279,6 +300,13 @@ std::string FormatHgvaeManifest(const HgvaeManifest& m, const BundleChecksums& c
               << YAML::Key << "one_sided" << YAML::Value << m.refiner_smoothing.one_sided
               << YAML::EndMap;
         }
+        if (const HgvaeManifest::GaussianStage& o = m.refiner_gaussian; o.enabled()) {
+          out << YAML::Key << "refiner_gaussian" << YAML::Value << YAML::Flow << YAML::BeginMap
+              << YAML::Key << "file" << YAML::Value << o.file << YAML::Key << "frames"
+              << YAML::Value << o.frames << YAML::Key << "coords" << YAML::Value << o.coords
+              << YAML::Key << "windows" << YAML::Value << o.windows << YAML::Key << "scope"
+              << YAML::Value << GaussianScopeName(o.scope) << YAML::EndMap;
+        }
       });
 }
 
@@ -299,17 +327,43 @@ std::string HgvaeSignature(const HgvaeManifest& m) {
   s.refiner_keep_bones = false;
   s.refiner_adapt_values.clear();
   s.refiner_smoothing = {};
+  s.refiner_gaussian = {};
   s.info.clear();
   return FormatHgvaeManifest(s);
 }
 
 void SaveHgvaeBundle(const std::string& dir, const HgvaeManifest& m, HgvaeNet& net) {
-  SaveTorchBundle(dir, kHgvaeFiles, m, net, FormatHgvaeManifest, HgvaeSignature);
+  std::vector<BundleFile> files = {{kHgvaeFiles.weights, WeightBytes(*net, HgvaeSignature(m))}};
+  if (const HgvaeManifest::GaussianStage& o = m.refiner_gaussian; o.enabled()) {
+    if (!o.model || o.model->frames != o.frames || o.model->coords != o.coords) {
+      throw std::invalid_argument("SaveHgvaeBundle: refiner_gaussian names " + o.file +
+                                  " but holds no window Gaussian of its size");
+    }
+    files.push_back({o.file, SerializeWindowGaussian(*o.model)});
+  }
+  WriteBundle(dir, files, kHgvaeFiles.manifest,
+              [&](const BundleChecksums& sums) { return FormatHgvaeManifest(m, sums); });
 }
 
 HgvaeNet LoadHgvaeBundle(const std::string& dir, HgvaeManifest* m, BundleCheck check) {
-  return LoadTorchBundle(dir, kHgvaeFiles, m, LoadHgvaeManifest, BuildHgvaeNet, HgvaeSignature,
-                         check);
+  HgvaeNet net =
+      LoadTorchBundle(dir, kHgvaeFiles, m, LoadHgvaeManifest, BuildHgvaeNet, HgvaeSignature, check);
+  if (HgvaeManifest::GaussianStage& o = m->refiner_gaussian; o.enabled()) {
+    BundleChecksums sums;
+    LoadHgvaeManifest((std::filesystem::path(dir) / kHgvaeFiles.manifest).string(), &sums);
+    RequireBundleFiles(dir, kHgvaeFiles.kind, {kHgvaeFiles.manifest, o.file});
+    RequireChecksum(dir, o.file, sums, kHgvaeFiles.manifest);
+    const std::string source = (std::filesystem::path(dir) / o.file).string();
+    o.model = std::make_shared<const WindowGaussian>(
+        ParseWindowGaussian(ReadBundleFile(dir, o.file, sums, kHgvaeFiles.manifest), o.frames,
+                            o.coords, o.windows, source));
+    const int expected = 3 * (static_cast<int>(m->skeleton.joint_names.size()) - 1);
+    if (o.coords != expected) {
+      throw FormatError(source + ": a window Gaussian of " + std::to_string(o.coords) +
+                        " coordinates, expected the skeleton's " + std::to_string(expected));
+    }
+  }
+  return net;
 }
 
 HgvaeModel LoadHgvaeModel(const std::string& dir) {

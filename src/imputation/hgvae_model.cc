@@ -283,6 +283,14 @@ std::vector<float> HgvaeModel::Sample(int count, int class_index, uint64_t seed,
   return out;
 }
 
+ImputationBlend HgvaeModel::calibrated_blend() const {
+  const HgvaeManifest& m = impl_->manifest;
+  return {m.refiner_weights,        m.refiner_local_weights,
+          m.refiner_keep_bones,     {},
+          m.refiner_adapt_values,   m.refiner_smoothing,
+          m.refiner_gaussian.model, m.refiner_gaussian.scope};
+}
+
 bool HgvaeModel::has_refiner() const { return static_cast<bool>(impl_->net->refiner); }
 
 std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) const {
@@ -299,12 +307,9 @@ std::vector<float> HgvaeModel::Refine(const RefinerFills& f, bool calibrated) co
   const torch::Tensor metres =
       im.tensors->DenormaliseFrameMajor(corrected.unsqueeze(0)).contiguous();
   std::vector<float> refined(metres.data_ptr<float>(), metres.data_ptr<float>() + metres.numel());
-  const HgvaeManifest& m = im.manifest;
-  const ImputationBlend blend{m.refiner_weights,      m.refiner_local_weights,
-                              m.refiner_keep_bones,   {},
-                              m.refiner_adapt_values, m.refiner_smoothing};
+  const ImputationBlend blend = calibrated_blend();
   if (!calibrated || (blend.refiner.empty() && blend.local.empty() && !blend.keep_bones &&
-                      !AdaptsToMotion(blend) && !blend.smoothing.active()))
+                      !AdaptsToMotion(blend) && !blend.smoothing.active() && !blend.gaussian))
     return refined;
   const RawRefiner raw = [this](const RefinerFills& probe) { return Refine(probe, false); };
   return BlendRefinerFills(skeleton(), f, refined, AdaptToMotion(skeleton(), f, raw, blend));

@@ -79,6 +79,8 @@ class HgvaeModel {
   // refiner_keep_bones; `calibrated` false: the refiner's output as it is). Throws
   // std::invalid_argument when the bundle has no refiner.
   std::vector<float> Refine(const RefinerFills& fills, bool calibrated = true) const;
+  // The calibrated stages after the refiner, as the manifest records them.
+  ImputationBlend calibrated_blend() const;
   bool has_refiner() const;
 
   // Mean imputation (the baseline): missing values -> training mean.

@@ -120,7 +120,10 @@ struct HgvaeTrainConfig {
 
 }  // namespace motionfork
 
+#include <memory>
+
 #include "core/skeleton.h"
+#include "imputation/window_gaussian.h"
 
 namespace motionfork {
 
@@ -153,6 +156,18 @@ struct HgvaeManifest {
   std::vector<double> refiner_adapt_values;
   // The filled values pulled towards a smooth path last (fill_smoothing.h); zeros: not at all.
   FillSmoothing refiner_smoothing;
+  // Then the scope's missing values (the ones observed on one side only; or those and every value
+  // of a motion no longer than the window): their conditional mean under a Gaussian over windows of
+  // frames (window_gaussian.h; fitted by `motionfork hgvae fit-gaussian`), stored in the bundle as
+  // `file`; no file: not at all.
+  struct GaussianStage {
+    std::string file;  // inside the bundle folder
+    int frames = 0, coords = 0;
+    long long windows = 0;
+    GaussianScope scope = GaussianScope::kOneSided;
+    std::shared_ptr<const WindowGaussian> model;  // loaded with the bundle
+    bool enabled() const { return !file.empty(); }
+  } refiner_gaussian;
   std::vector<std::pair<std::string, std::string>> info;  // provenance
 };
 

@@ -149,6 +149,9 @@ ImputationBlend AdaptBones(const Skeleton& skeleton, const ImputationBlend& blen
   ImputationBlend loose = blend, rigid = blend;
   loose.keep_bones = false;
   rigid.bones.clear();
+  // The Gaussian's estimates depend on the observed values only: they would make both fills of a
+  // hidden value it fills the same, hiding what the bones do there.
+  loose.gaussian = rigid.gaussian = nullptr;
   // Per bucket: e the blend's error on the hidden values, c the bones' correction of it.
   BucketSums sums(kRefinerGapBuckets);
   for (const RefinerProbe& p : probes) {

@@ -132,7 +132,14 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
     if (f.mask[i])
       out[i] = f.spline[i] + a[i] * (refined[i] - f.spline[i]) + b[i] * (f.local[i] - f.spline[i]);
   }
-  if (!blend.keep_bones) return SmoothFilledValues(out, f.mask, f.coords, blend.smoothing);
+  // The last stages: the smooth path, then the Gaussian's conditional means.
+  auto finish = [&](const std::vector<float>& v) {
+    const std::vector<float> smooth = SmoothFilledValues(v, f.mask, f.coords, blend.smoothing);
+    return blend.gaussian
+               ? FillFromWindowGaussian(*blend.gaussian, smooth, f.mask, blend.gaussian_scope)
+               : smooth;
+  };
+  if (!blend.keep_bones) return finish(out);
   const size_t F = N + 3;
   const std::vector<float> kept = KeepBoneLengths(skeleton, WithRootAtOrigin(out.data(), T, N),
                                                   WithRootAtOrigin(f.mask.data(), T, N));
@@ -144,7 +151,7 @@ std::vector<float> BlendRefinerFills(const Skeleton& skeleton, const RefinerFill
       out[i] += share[i] * (kept[t * F + 3 + v] - out[i]);
     }
   }
-  return SmoothFilledValues(out, f.mask, f.coords, blend.smoothing);
+  return finish(out);
 }
 
 double AdaptValues(const ImputationBlend& blend, int bucket) {

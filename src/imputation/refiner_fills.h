@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/skeleton.h"
 #include "imputation/fill_smoothing.h"
+#include "imputation/window_gaussian.h"
 
 namespace motionfork {
 
@@ -70,8 +72,12 @@ struct ImputationBlend {
   // towards the weights above as if by this many values; 0: used as they are. One value for every
   // bucket, or one per gap length class [kRefinerGapLengths]; empty: 0.
   std::vector<double> adapt_values;
-  // Last, the filled values pulled towards a smooth path in time (fill_smoothing.h).
+  // Then the filled values pulled towards a smooth path in time (fill_smoothing.h).
   FillSmoothing smoothing;
+  // Last, set: the scope's missing values replaced by their conditional mean under this Gaussian
+  // (window_gaussian.h FillFromWindowGaussian).
+  std::shared_ptr<const WindowGaussian> gaussian;
+  GaussianScope gaussian_scope = GaussianScope::kOneSided;
 };
 // blend.adapt_values for bucket k (throws std::invalid_argument on another number of values).
 double AdaptValues(const ImputationBlend& blend, int bucket);

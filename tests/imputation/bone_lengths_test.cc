@@ -102,18 +102,18 @@ TEST_CASE("the imputation blend: spline, refiner and local polynomial by bucket,
     if (f.mask[i]) refined[i] += 0.01f;
   const std::vector<double> zeros(kRefinerGapBuckets, 0.0), ones(kRefinerGapBuckets, 1.0);
   const std::vector<float> spline =
-      BlendRefinerFills(sk, f, refined, {zeros, zeros, false, {}, {}, {}});
+      BlendRefinerFills(sk, f, refined, {zeros, zeros, false, {}, {}, {}, {}});
   const std::vector<float> local =
-      BlendRefinerFills(sk, f, refined, {zeros, ones, false, {}, {}, {}});
+      BlendRefinerFills(sk, f, refined, {zeros, ones, false, {}, {}, {}, {}});
   const std::vector<float> both =
-      BlendRefinerFills(sk, f, refined, {ones, ones, false, {}, {}, {}});
+      BlendRefinerFills(sk, f, refined, {ones, ones, false, {}, {}, {}, {}});
   for (size_t i = 0; i < f.mask.size(); ++i) {
     CHECK(spline[i] == Approx(f.spline[i]).margin(1e-7));
     CHECK(local[i] == Approx(f.local[i]).margin(1e-7));
     if (f.mask[i]) CHECK(both[i] == Approx(f.local[i] + 0.01f).margin(1e-6));
   }
   const std::vector<float> bones =
-      BlendRefinerFills(sk, f, refined, {ones, zeros, true, {}, {}, {}});
+      BlendRefinerFills(sk, f, refined, {ones, zeros, true, {}, {}, {}, {}});
   const int N = f.coords, hand = 3 * (2 - 1), elbow = 0;
   for (int t = 10; t <= 12; ++t) {
     double s = 0;

@@ -12,8 +12,10 @@
 #include "bundle/hgvae_bundle.h"
 #include "imputation/interpolation_fill.h"
 #include "imputation/motion_imputation.h"
+#include "imputation/refiner_adaptation.h"
 #include "imputation/refiner_fills.h"
 #include "imputation/tiny_hgvae.h"
+#include "imputation/training/gaussian_fitting.h"
 #include "imputation/training/refiner_calibration.h"
 #include "test_support.h"
 
@@ -309,6 +311,59 @@ TEST_CASE(
     refused("{bracketed: -1, one_sided: 3}", "refiner_smooth: expected finite numbers >= 0");
     refused("{bracket: 1}", "refiner_smooth: unknown key 'bracket'");
     refused("3", "refiner_smooth: expected a map");
+  }
+  // The one-sided values' Gaussian: fitted on the training clips, measured on held-out
+  // histories, in the bundle (checksummed) when it lowers their error, and used by Refine.
+  {
+    CHECK_THROWS_AS(FitGaussianIntoBundle(dir.file("c"), data.train.poses, data.held_out.poses, 1,
+                                          dir.file("c")),
+                    std::invalid_argument);
+    const GaussianFit e = FitGaussianIntoBundle(dir.file("c"), data.train.poses,
+                                                data.held_out.poses, 1, dir.file("e"));
+    CHECK(e.gaussian.frames == 8);
+    CHECK(e.gaussian.coords == 48);
+    REQUIRE(e.shares.size() == std::size(kSmoothingShares));
+    for (const GaussianFit::Share& sh : e.shares) {
+      CHECK(sh.values > 0);
+      CHECK(sh.one_sided > 0);
+      for (int k = 0; k < 3; ++k) CHECK(std::isfinite(sh.all_cm[k] + sh.one_sided_cm[k]));
+    }
+    CHECK(e.chosen == (std::min(e.score[0], e.score[1]) < 3));
+    CHECK(e.scope ==
+          (e.score[1] < e.score[0] ? GaussianScope::kShortMotions : GaussianScope::kOneSided));
+    CHECK(GaussianFitText(e, "OUT").find("one-sided") != std::string::npos);
+    CHECK(LoadHgvaeModel(dir.file("e")).manifest().refiner_gaussian.enabled() == e.chosen);
+    // (The tiny walks are smooth enough that the smoothing's extrapolation wins there.) A bundle
+    // with the Gaussian whichever won: saved with its checksum, loaded, applied last by Refine.
+    HgvaeManifest gm = cm;
+    gm.refiner_gaussian = {"window_gaussian.npy",
+                           8,
+                           48,
+                           e.gaussian.windows,
+                           GaussianScope::kShortMotions,
+                           std::make_shared<const WindowGaussian>(e.gaussian)};
+    SaveHgvaeBundle(dir.file("g"), gm, net);
+    const HgvaeModel ends = LoadHgvaeModel(dir.file("g"));
+    REQUIRE(ends.manifest().refiner_gaussian.model);
+    CHECK(ends.manifest().refiner_gaussian.model->windows == e.gaussian.windows);
+    // A motion with its last frame's left hand missing: the Gaussian's estimate there.
+    std::vector<uint8_t> last(50 * 17 * 3, 0);
+    for (int v = 0; v < 3; ++v) last[(49 * 17 + 13) * 3 + v] = 1;
+    const RefinerFills lf =
+        MakeRefinerFills(motion.skeleton(), motion.positions(), last, TrainingMeanPose(ends));
+    const std::vector<float> with = ends.Refine(lf);
+    ImputationBlend plain = ends.calibrated_blend();
+    plain.gaussian = nullptr;
+    const RawRefiner raw = [&](const RefinerFills& p) { return ends.Refine(p, false); };
+    const std::vector<float> without = BlendRefinerFills(
+        motion.skeleton(), lf, raw(lf), AdaptToMotion(motion.skeleton(), lf, raw, plain));
+    CHECK(with != without);
+    CHECK(ends.manifest().refiner_gaussian.scope == GaussianScope::kShortMotions);
+    CHECK(with == FillFromWindowGaussian(*ends.manifest().refiner_gaussian.model, without, lf.mask,
+                                         GaussianScope::kShortMotions));
+    // A damaged Gaussian file is refused by its checksum, naming it.
+    std::ofstream(dir.file("g/window_gaussian.npy"), std::ios::app) << "x";
+    CHECK_THROWS_WITH(LoadHgvaeModel(dir.file("g")), Catch::Contains("window_gaussian.npy"));
   }
   // Weights 0 keep the spline exactly; the uncalibrated refiner ignores them.
   cm.refiner_weights.assign(kRefinerGapBuckets, 0.0);

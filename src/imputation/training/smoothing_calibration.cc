@@ -58,6 +58,31 @@ double Lowest(const std::vector<std::pair<double, double>>& scores) {
 
 }  // namespace
 
+std::vector<HeldOutHistory> HeldOutHistories(const std::vector<std::vector<float>>& clips,
+                                             int window, int coords, uint64_t seed, int* used) {
+  const size_t W = static_cast<size_t>(window), N = static_cast<size_t>(coords);
+  constexpr int kWindowsPerClip = 8;
+  std::vector<HeldOutHistory> out;
+  if (used) *used = 0;
+  for (size_t c = 0; c < clips.size(); ++c) {
+    const int count = static_cast<int>(clips[c].size() / N / W);
+    const int taken = std::min(count, kWindowsPerClip);
+    for (int w = 0; w < taken; ++w) {
+      const size_t start = static_cast<size_t>(w * count / taken) * W * N;
+      for (size_t s = 0; s < std::size(kSmoothingShares); ++s) {
+        HeldOutHistory h;
+        h.share = s;
+        h.clean.assign(clips[c].begin() + start, clips[c].begin() + start + W * N);
+        h.mask = RandomOcclusion(1, static_cast<int>(W * N), kSmoothingShares[s],
+                                 ItemSeed(seed + 7, static_cast<int>(c * 1009 + w * 7 + s)));
+        out.push_back(std::move(h));
+      }
+    }
+    if (used) *used += taken;
+  }
+  return out;
+}
+
 SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const ImputationBlend& blend,
                                         const std::vector<std::vector<float>>& clips, uint64_t seed,
                                         const StageProgress& progress) {
@@ -67,6 +92,7 @@ SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const Imputatio
   const RawRefiner raw = [&model](const RefinerFills& f) { return model.Refine(f, false); };
   ImputationBlend plain = blend;
   plain.smoothing = {};
+  plain.gaussian = nullptr;
   // clean: [T, N]; missing: [T, J, 3] (the root observed).
   auto fill = [&](size_t setting, std::vector<float> clean, const std::vector<uint8_t>& missing) {
     const size_t T = clean.size() / N;
@@ -81,9 +107,8 @@ SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const Imputatio
   // Whole clips under every gap setting (masks as CalibrateRefiner draws them).
   const std::vector<GapSetting> settings = StandardGapSettings(skeleton, model.manifest().fps);
   std::vector<Filled> whole, histories;
-  const size_t windows_per_clip = 8;
   size_t done = 0;
-  const size_t total = 2 * clips.size();
+  const size_t total = clips.size() + 1;
   for (size_t c = 0; c < clips.size(); ++c) {
     const int T = static_cast<int>(clips[c].size() / N);
     for (size_t s = 0; s < settings.size(); ++s) {
@@ -94,25 +119,10 @@ SmoothingCalibration CalibrateSmoothing(const HgvaeModel& model, const Imputatio
     }
     ReportProgress(progress, "smoothing on held-out clips", double(++done) / total);
   }
-  // Histories of W frames, up to windows_per_clip spread over each clip, random shares missing.
   SmoothingCalibration out;
-  for (size_t c = 0; c < clips.size(); ++c) {
-    const int T = static_cast<int>(clips[c].size() / N), count = T / W;
-    const int used = std::min<int>(count, windows_per_clip);
-    for (int w = 0; w < used; ++w) {
-      const size_t start = static_cast<size_t>(w * count / used) * W * N;
-      const std::vector<float> clean(clips[c].begin() + start,
-                                     clips[c].begin() + start + static_cast<size_t>(W) * N);
-      for (size_t s = 0; s < std::size(kSmoothingShares); ++s) {
-        const std::vector<uint8_t> mask =
-            RandomOcclusion(1, W * N, kSmoothingShares[s],
-                            ItemSeed(seed + 7, static_cast<int>(c * 1009 + w * 7 + s)));
-        histories.push_back(fill(s, clean, WithRootAtOrigin(mask.data(), W, N)));
-      }
-    }
-    out.histories += used;
-    ReportProgress(progress, "smoothing on held-out clips", double(++done) / total);
-  }
+  for (HeldOutHistory& h : HeldOutHistories(clips, W, N, seed, &out.histories))
+    histories.push_back(fill(h.share, std::move(h.clean), WithRootAtOrigin(h.mask.data(), W, N)));
+  ReportProgress(progress, "smoothing on held-out clips", 1.0);
   out.bracketed = Scores(whole, settings.size(), [](double l) { return FillSmoothing{l, 0}; });
   out.chosen.bracketed = Lowest(out.bracketed);
   const double b = out.chosen.bracketed;

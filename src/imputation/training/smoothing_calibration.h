@@ -7,6 +7,7 @@
 // the grid, so the stage is chosen only where it lowers that sum.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -26,6 +27,18 @@ struct SmoothingCalibration {
   std::vector<std::pair<double, double>> one_sided;  // lambda (bracketed as chosen), the same
   int histories = 0;                                 // history windows per share
 };
+
+// A history of `window` frames cut from a held-out clip, a random share of its values missing
+// (kSmoothingShares[share]): up to 8 spread over each clip, masks drawn from seed.
+struct HeldOutHistory {
+  size_t share = 0;
+  std::vector<float> clean;   // [W, N]
+  std::vector<uint8_t> mask;  // [W, N], 1 = missing
+};
+// used: how many windows each clip gave, summed (each gives one history per share).
+std::vector<HeldOutHistory> HeldOutHistories(const std::vector<std::vector<float>>& clips,
+                                             int window, int coords, uint64_t seed,
+                                             int* used = nullptr);
 
 // clips: root-relative poses without the root [T, N] on the model's skeleton; blend: the
 // calibrated blend (its smoothing is ignored). Masks drawn from seed.
