@@ -12,6 +12,7 @@
 #include "imputation/training/hgvae_training.h"
 #include "imputation/training/hgvae_training_text.h"
 #include "imputation/training/refiner_calibration.h"
+#include "io/file_util.h"
 
 namespace motionfork::app {
 namespace {
@@ -73,6 +74,7 @@ void RunHgvaeRefine(const HgvaeTrainCmd& o, GlobalOptions& g) {
 }
 
 struct CalibrateCmd {
+  std::string command;  // calibrate, fit-gaussian
   std::string config = "hgvae_bandai", model, data, split_file, out;
 };
 
@@ -81,6 +83,7 @@ struct CalibrateCmd {
 void RunHgvaeFit(
     const CalibrateCmd& o, GlobalOptions& g,
     const std::function<std::string(const HgvaeData&, uint64_t seed, const StageProgress&)>& fit) {
+  RequireSeparateFolder(o.command, o.out, o.model);  // before the dataset's 20 s
   const HgvaeTrainConfig cfg =
       LoadHgvaeTrainConfig(ResolveConfigPath(ConfigDir(g.config_dir), "models", o.config));
   const Dataset ds = LoadProtocolDataset(cfg.protocol, o.data, o.split_file, g);
@@ -104,6 +107,14 @@ void RunHgvaeFitGaussian(const CalibrateCmd& o, GlobalOptions& g) {
                                                  seed + 29, o.out, progress),
                            o.out);
   });
+}
+
+void AddFitOptions(CLI::App* cmd, CalibrateCmd* o) {
+  o->command = cmd->get_name();
+  cmd->add_option("--config", o->config, "Config name or YAML path (default hgvae_bandai)");
+  AddModelOption(cmd, &o->model, "HG-VAE bundle with a refiner");
+  AddDataOptions(cmd, &o->data, &o->split_file, "Data folder of the model's protocol");
+  cmd->add_option("--out", o->out, "Output bundle folder (not MODEL)")->required();
 }
 
 }  // namespace
@@ -141,10 +152,7 @@ and how far to adapt those weights to each motion (refiner_adapt_values, per gap
 cross-fitting),
 on the training clips the refiner held out (the config's split), every standard gap setting drawn
 on each; OUT: the bundle with them (refiner_weights, refiner_local_weights, ...).)");
-  cal->add_option("--config", c->config, "Config name or YAML path (default hgvae_bandai)");
-  AddModelOption(cal, &c->model, "HG-VAE bundle with a refiner");
-  AddDataOptions(cal, &c->data, &c->split_file, "Data folder of the model's protocol");
-  cal->add_option("--out", c->out, "Output bundle folder (not MODEL)")->required();
+  AddFitOptions(cal, c.get());
   const auto [ends, e] = AddSubcommand<CalibrateCmd>(
       hg, global, RunHgvaeFitGaussian, "fit-gaussian",
       R"(Fit the fill of values observed on one side only (a history's last frames): a Gaussian over
@@ -152,10 +160,7 @@ windows of the model's length, fitted on the training clips the HG-VAE trained o
 becomes its conditional mean given what its window observes. Taken when it beats the bundle's own
 last stage on histories of the held-out training clips (random 10/50/90% missing); OUT: the bundle
 with it (refiner_gaussian, window_gaussian.npy).)");
-  ends->add_option("--config", e->config, "Config name or YAML path (default hgvae_bandai)");
-  AddModelOption(ends, &e->model, "HG-VAE bundle with a refiner");
-  AddDataOptions(ends, &e->data, &e->split_file, "Data folder of the model's protocol");
-  ends->add_option("--out", e->out, "Output bundle folder (not MODEL)")->required();
+  AddFitOptions(ends, e.get());
   AddHgvaeSampleCommand(*hg, global);
   AddHgvaeEvalCommand(*hg, global);
 }

@@ -140,6 +140,19 @@ GaussianScope ParseGaussianScope(const std::string& name) {
                               name + "'");
 }
 
+std::vector<ObservedSpan> ObservedSpans(const std::vector<uint8_t>& mask, size_t coords) {
+  const size_t T = coords > 0 ? mask.size() / coords : 0;
+  std::vector<ObservedSpan> out(coords, ObservedSpan{T, T});
+  for (size_t t = 0; t < T; ++t) {
+    for (size_t v = 0; v < coords; ++v) {
+      if (mask[t * coords + v]) continue;
+      if (out[v].first == T) out[v].first = t;
+      out[v].last = t;
+    }
+  }
+  return out;
+}
+
 std::vector<float> FillFromWindowGaussian(const WindowGaussian& g, const std::vector<float>& values,
                                           const std::vector<uint8_t>& mask, GaussianScope scope) {
   const size_t N = static_cast<size_t>(g.coords);
@@ -152,20 +165,12 @@ std::vector<float> FillFromWindowGaussian(const WindowGaussian& g, const std::ve
   const size_t T = values.size() / N;
   if (T == 0) return out;
   const size_t w = std::min(T, static_cast<size_t>(g.frames));
-  // A coordinate's first and last observed frame (T where never observed).
-  std::vector<size_t> first_seen(N, T), last_seen(N, T);
-  for (size_t t = 0; t < T; ++t) {
-    for (size_t v = 0; v < N; ++v) {
-      if (mask[t * N + v]) continue;
-      if (first_seen[v] == T) first_seen[v] = t;
-      last_seen[v] = t;
-    }
-  }
+  const std::vector<ObservedSpan> seen = ObservedSpans(mask, N);
   const int model_tail = g.frames - static_cast<int>(w);
   if (scope == GaussianScope::kShortMotions && T <= static_cast<size_t>(g.frames)) {
     std::vector<uint8_t> target(values.size(), 0);
     for (size_t t = 0; t < T; ++t)
-      for (size_t v = 0; v < N; ++v) target[t * N + v] = mask[t * N + v] && first_seen[v] < T;
+      for (size_t v = 0; v < N; ++v) target[t * N + v] = mask[t * N + v] && seen[v].first < T;
     Condition(g, model_tail, 0, w, mask, target, &out);
     return out;
   }
@@ -174,11 +179,11 @@ std::vector<float> FillFromWindowGaussian(const WindowGaussian& g, const std::ve
   const size_t tail = T - w;
   std::vector<uint8_t> after(values.size(), 0), before(values.size(), 0);
   for (size_t v = 0; v < N; ++v) {
-    if (first_seen[v] == T) continue;
-    if (last_seen[v] >= tail)
-      for (size_t t = last_seen[v] + 1; t < T; ++t) after[t * N + v] = 1;
-    if (first_seen[v] < w)
-      for (size_t t = 0; t < first_seen[v]; ++t) before[t * N + v] = 1;
+    if (seen[v].first == T) continue;
+    if (seen[v].last >= tail)
+      for (size_t t = seen[v].last + 1; t < T; ++t) after[t * N + v] = 1;
+    if (seen[v].first < w)
+      for (size_t t = 0; t < seen[v].first; ++t) before[t * N + v] = 1;
   }
   if (tail == 0) {  // one window holds both ends: one conditioning
     for (size_t i = 0; i < after.size(); ++i) after[i] = after[i] || before[i];

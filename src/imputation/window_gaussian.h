@@ -9,6 +9,7 @@
 // `hgvae fit-ends` measures both against the bundle's fill on held-out histories.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -39,6 +40,13 @@ enum class GaussianScope {
 const char* GaussianScopeName(GaussianScope scope);  // "one_sided", "short_motions"
 // Throws std::invalid_argument naming the accepted names.
 GaussianScope ParseGaussianScope(const std::string& name);
+
+// Per coordinate of a [T, N] mask (1 = missing), its first and last observed frame (both T when
+// it is never observed).
+struct ObservedSpan {
+  size_t first = 0, last = 0;
+};
+std::vector<ObservedSpan> ObservedSpans(const std::vector<uint8_t>& mask, size_t coords);
 
 // values, mask: [T, N] (1 = missing; missing values as some earlier stage filled them). Returns
 // the values with the scope's missing values replaced by their conditional mean given the

@@ -398,4 +398,12 @@ void RequireSeparateOutput(const std::string& output, const std::vector<std::str
   }
 }
 
+void RequireSeparateFolder(const std::string& what, const std::string& out_dir,
+                           const std::string& in_dir) {
+  if (SameFile(out_dir, in_dir)) {
+    throw std::invalid_argument(what + ": --out " + out_dir +
+                                " is the input bundle; expected another folder");
+  }
+}
+
 }  // namespace motionfork

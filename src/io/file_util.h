@@ -62,4 +62,9 @@ void RecoverFileSets(const std::string& dir);
 // compared. Throws std::invalid_argument naming the output and the input it would overwrite.
 void RequireSeparateOutput(const std::string& output, const std::vector<std::string>& inputs);
 
+// The same for a bundle written from another: out_dir must not be in_dir (after resolving links
+// and ".."). Throws std::invalid_argument "<what>: --out OUT is the input bundle; ...".
+void RequireSeparateFolder(const std::string& what, const std::string& out_dir,
+                           const std::string& in_dir);
+
 }  // namespace motionfork

@@ -101,6 +101,16 @@ TEST_CASE("window Gaussian: one-sided values from the window's evidence, nothing
       std::invalid_argument);
 }
 
+TEST_CASE("window Gaussian: each coordinate's first and last observed frame") {
+  // [4 frames, 3 coordinates]: x seen in frames 1-2, y in every frame, z never.
+  const std::vector<uint8_t> mask = {1, 0, 1, 0, 0, 1, 0, 0, 1, 1, 0, 1};
+  const std::vector<ObservedSpan> s = ObservedSpans(mask, 3);
+  REQUIRE(s.size() == 3);
+  CHECK((s[0].first == 1 && s[0].last == 2));
+  CHECK((s[1].first == 0 && s[1].last == 3));
+  CHECK((s[2].first == 4 && s[2].last == 4));
+}
+
 TEST_CASE("window Gaussian: an extrapolation better than holding the last value") {
   // x alone (y and z missing too), its last 2 frames missing: the sinusoid's velocity carries on.
   const int W = 8;

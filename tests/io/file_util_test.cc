@@ -126,5 +126,19 @@ TEST_CASE("file_util: an output that names an input, or no file, is refused") {
   CHECK_NOTHROW(RequireSeparateOutput(dir.file("h.csv"), {h}));
 }
 
+TEST_CASE("file_util: a bundle written over its input folder is refused, by any path") {
+  testing::TempDir dir;
+  fs::create_directories(dir.path() / "model" / "sub");
+  const std::string model = dir.file("model");
+  CHECK_THROWS_WITH(RequireSeparateFolder("calibrate", model, model),
+                    Contains("calibrate: --out " + model + " is the input bundle"));
+  CHECK_THROWS(RequireSeparateFolder("calibrate", dir.file("model/sub/.."), model));
+  CHECK_THROWS(RequireSeparateFolder("calibrate", dir.file("model/"), model));
+  fs::create_directory_symlink(dir.path() / "model", dir.path() / "link");
+  CHECK_THROWS(RequireSeparateFolder("calibrate", dir.file("link"), model));
+  CHECK_NOTHROW(RequireSeparateFolder("calibrate", dir.file("out"), model));
+  CHECK_NOTHROW(RequireSeparateFolder("calibrate", dir.file("model/sub"), model));
+}
+
 }  // namespace
 }  // namespace motionfork

@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <filesystem>
 #include <iterator>
 #include <stdexcept>
 
@@ -13,6 +12,7 @@
 #include "imputation/refiner_adaptation.h"
 #include "imputation/refiner_fills.h"
 #include "imputation/training/smoothing_calibration.h"
+#include "io/file_util.h"
 
 namespace motionfork {
 namespace {
@@ -23,19 +23,22 @@ constexpr const char* kGaussianFile = "window_gaussian.npy";
 // some observed value of it in the window).
 std::vector<uint8_t> OneSided(const std::vector<uint8_t>& mask, size_t coords) {
   const size_t T = mask.size() / coords;
+  const std::vector<ObservedSpan> seen = ObservedSpans(mask, coords);
   std::vector<uint8_t> out(mask.size(), 0);
-  for (size_t v = 0; v < coords; ++v) {
-    size_t first = T, last = T;
-    for (size_t t = 0; t < T; ++t) {
-      if (mask[t * coords + v]) continue;
-      if (first == T) first = t;
-      last = t;
+  for (size_t t = 0; t < T; ++t) {
+    for (size_t v = 0; v < coords; ++v) {
+      const size_t i = t * coords + v;
+      out[i] = mask[i] && seen[v].first < T && (t < seen[v].first || t > seen[v].last);
     }
-    if (first == T) continue;
-    for (size_t t = 0; t < T; ++t)
-      out[t * coords + v] = mask[t * coords + v] && (t < first || t > last);
   }
   return out;
+}
+
+// The Gaussian as the bundle stores it (float32), so that it is scored as it will be used.
+WindowGaussian RoundedToFloat(WindowGaussian g) {
+  for (double& x : g.mean) x = static_cast<float>(x);
+  for (double& x : g.cov) x = static_cast<float>(x);
+  return g;
 }
 
 }  // namespace
@@ -51,7 +54,7 @@ GaussianFit FitGaussian(const HgvaeModel& model, const std::vector<std::vector<f
   out.training_clips = static_cast<int>(train.size());
   out.held_out_clips = static_cast<int>(held_out.size());
   ReportProgress(progress, "window Gaussian on training clips", 0.0);
-  out.gaussian = FitWindowGaussian(train, W, N);
+  out.gaussian = RoundedToFloat(FitWindowGaussian(train, W, N));
   ReportProgress(progress, "window Gaussian on training clips", 1.0);
   ImputationBlend blend = model.calibrated_blend();
   blend.gaussian = nullptr;  // the bundle's fill without a Gaussian it may hold already
@@ -117,11 +120,7 @@ GaussianFit FitGaussianIntoBundle(const std::string& model_dir,
                                   const std::vector<std::vector<float>>& train,
                                   const std::vector<std::vector<float>>& held_out, uint64_t seed,
                                   const std::string& out_dir, const StageProgress& progress) {
-  namespace fs = std::filesystem;
-  if (fs::exists(out_dir) && fs::exists(model_dir) && fs::equivalent(out_dir, model_dir)) {
-    throw std::invalid_argument("fit-gaussian: --out " + out_dir +
-                                " is the input bundle; expected another folder");
-  }
+  RequireSeparateFolder("fit-gaussian", out_dir, model_dir);
   HgvaeManifest m;
   HgvaeNet net = LoadHgvaeBundle(model_dir, &m);  // saved as loaded: the same weights file
   const GaussianFit fit = FitGaussian(LoadHgvaeModel(model_dir), train, held_out, seed, progress);

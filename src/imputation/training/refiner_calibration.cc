@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <tuple>
@@ -17,6 +16,7 @@
 #include "imputation/motion_imputation.h"
 #include "imputation/refiner_adaptation.h"
 #include "imputation/refiner_fills.h"
+#include "io/file_util.h"
 
 namespace motionfork {
 
@@ -204,11 +204,7 @@ RefinerCalibration CalibrateRefiner(const HgvaeModel& model,
 RefinerCalibration CalibrateHgvaeBundle(const std::string& model_dir,
                                         const std::vector<std::vector<float>>& clips, uint64_t seed,
                                         const std::string& out_dir, const StageProgress& progress) {
-  namespace fs = std::filesystem;
-  if (fs::exists(out_dir) && fs::exists(model_dir) && fs::equivalent(out_dir, model_dir)) {
-    throw std::invalid_argument("calibrate: --out " + out_dir +
-                                " is the input bundle; expected another folder");
-  }
+  RequireSeparateFolder("calibrate", out_dir, model_dir);
   HgvaeManifest m;
   HgvaeNet net = LoadHgvaeBundle(model_dir, &m);  // saved as loaded: the same weights file
   const RefinerCalibration c = CalibrateRefiner(LoadHgvaeModel(model_dir), clips, seed, progress);
