@@ -6,7 +6,7 @@
 // only guess from one side (after a coordinate's last observed frame - a history's last frames,
 // which a forecaster reads most - or before its first), and every value of a history no longer
 // than the window, all estimated together so that the last frames move as one body.
-// `hgvae fit-ends` measures both against the bundle's fill on held-out histories.
+// `hgvae fit-gaussian` measures both against the bundle's fill on held-out histories.
 #pragma once
 
 #include <cstddef>
